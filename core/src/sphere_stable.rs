@@ -1,0 +1,64 @@
+//! Numerically sound ray-sphere (Ray Tracing Gems ch. 7): one generic body for every lane width;
+//! `L = f32` is the scalar twin.
+//!
+//! # Accuracy contract (standard tier)
+//! - Bit-identical across `f32`, `f32x4`, `f32x8`, `f32x16` and across builds (proptested).
+//! - The discriminant is formed from the perpendicular distance of the centre to the ray line,
+//!   `Δ/4 = a (r² − |f − (f·d/a) d|²)`, not `b² − 4ac`, so small distant spheres keep their
+//!   hit/miss answer; the roots come from `q = −(h + sign(h)·√(Δ/4))` as `t = c/q` and `t = q/a`,
+//!   so neither root cancels. `c = f·f − r²` still cancels for an origin next to the surface of
+//!   a huge sphere (there `t` near 0 has large relative error; the accuracy tiers measure it).
+//! - The nearest root in `[t_min, t_max]` is the hit; an origin inside gets the far root.
+//! - Reported hits always have finite `t ∈ [t_min, t_max]`. A radius that is not finite and
+//!   `> 0` (packed as `radius_sq = NaN`), zero or non-finite directions and non-finite inputs
+//!   are misses.
+
+use crate::lanes::{LaneMask, Lanes};
+use crate::ray::{PackedSphere, RayLanes};
+use crate::vec3::V3;
+
+/// Per-lane result of one ray-sphere test: `mask` marks the lanes that hit; `t` is meaningful
+/// only there.
+#[derive(Clone, Copy, Debug)]
+pub struct SphereLanesHit<L: Lanes> {
+    /// Lanes that hit.
+    pub mask: L::Mask,
+    /// Ray parameter of the nearest root in range.
+    pub t: L,
+}
+
+/// Tests every lane of `ray` against one sphere.
+#[inline(always)]
+pub fn intersect<L: Lanes>(ray: &RayLanes<L>, sphere: &PackedSphere) -> SphereLanesHit<L> {
+    let zero = L::zero();
+    let d = ray.dir;
+    let r2 = L::splat(sphere.radius_sq);
+    // |f + t·d|² = r² with f = o − c: a t² + 2h t + c = 0, a = d·d, h = f·d, c = f·f − r².
+    let f = ray.origin - V3::splat(sphere.center);
+    let a = d.dot(d);
+    let h = f.dot(d);
+    let c = f.dot(f) - r2;
+    // Δ/4 = h² − a c = a (r² − |l|²), where l = f − (h/a) d is the centre's perpendicular offset
+    // from the ray line: no cancellation between two large nearly equal terms.
+    let l = f - d * (h / a);
+    let disc = a * (r2 - l.dot(l));
+    let mask = ray.active & a.gt(zero) & a.is_finite() & disc.ge(zero);
+    if mask.none() {
+        return SphereLanesHit { mask, t: zero };
+    }
+
+    // Stable roots: q = −(h + sign(h)·√(Δ/4)) adds like signs; then t = c/q and t = q/a.
+    let sq = disc.sqrt();
+    let q = -(h + L::select(h.lt(zero), -sq, sq));
+    let t0 = c / q;
+    let t1 = q / a;
+    let ordered = t0.le(t1);
+    let near = L::select(ordered, t0, t1);
+    let far = L::select(ordered, t1, t0);
+    let near_ok = near.is_finite() & near.ge(ray.t_min) & near.le(ray.t_max);
+    let far_ok = far.is_finite() & far.ge(ray.t_min) & far.le(ray.t_max);
+    SphereLanesHit {
+        mask: mask & (near_ok | far_ok),
+        t: L::select(near_ok, near, far),
+    }
+}
