@@ -9,3 +9,8 @@ pub use octoray_core as core;
 pub use octoray_packet as packet;
 
 pub use octoray_core::{glam, Hit, PackedSphere, PackedTriangle, Ray, Sphere, Triangle};
+
+/// The README's code blocks, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;
