@@ -26,12 +26,26 @@ fn main() {
         Sphere::new(v(-5.0, -6.0, -7.0), 2.0),
         Sphere::new(v(0.0, 0.0, -1.0), 3.0),
     ];
-    println!("Ray: o = {}, d = {} (t in units of d)\n", fmt(ray.origin), fmt(ray.dir));
+    println!(
+        "Ray: o = {}, d = {} (t in units of d)\n",
+        fmt(ray.origin),
+        fmt(ray.dir)
+    );
 
     for (i, tri) in triangles.iter().enumerate() {
         let s = textbook::triangle_steps(&ray, tri, InsideTest::Full);
-        println!("Ray-triangle problem {}: a1 = {}, a2 = {}, a3 = {}", i + 1, fmt(tri.v0), fmt(tri.v1), fmt(tri.v2));
-        println!("  a1a2 = {}, a1a3 = {}", fmt(tri.v1 - tri.v0), fmt(tri.v2 - tri.v0));
+        println!(
+            "Ray-triangle problem {}: a1 = {}, a2 = {}, a3 = {}",
+            i + 1,
+            fmt(tri.v0),
+            fmt(tri.v1),
+            fmt(tri.v2)
+        );
+        println!(
+            "  a1a2 = {}, a1a3 = {}",
+            fmt(tri.v1 - tri.v0),
+            fmt(tri.v2 - tri.v0)
+        );
         println!("  n = a1a2 x a1a3 = {}", fmt(s.n));
         println!("  a1o = {}", fmt(ray.origin - tri.v0));
         println!("  d . n = {}, (o - a1) . n = {}", s.d_dot_n, s.o_dot_n);
@@ -53,7 +67,11 @@ fn main() {
             println!("  pa{0} = a{0} - p = {1}", k + 1, fmt(*pv));
         }
         let axis = ["x", "y", "z"][s.dominant_axis];
-        for (k, (edge, c)) in ["(pa1 x pa2)", "(pa2 x pa3)", "(pa3 x pa1)"].iter().zip(s.edge_cross).enumerate() {
+        for (k, (edge, c)) in ["(pa1 x pa2)", "(pa2 x pa3)", "(pa3 x pa1)"]
+            .iter()
+            .zip(s.edge_cross)
+            .enumerate()
+        {
             println!(
                 "  {edge} = {}: {axis} component {}, along n {}",
                 fmt(c),
@@ -64,7 +82,11 @@ fn main() {
         let short = textbook::intersect_triangle(&ray, tri, InsideTest::DominantAxis);
         let kernel = octoray::core::intersect_triangle(&ray, &PackedTriangle::from(*tri));
         match s.outcome {
-            TriangleOutcome::Hit(h) => println!("  all agree in sign: inside => hit at {} (t = {})", fmt(h.point), h.t),
+            TriangleOutcome::Hit(h) => println!(
+                "  all agree in sign: inside => hit at {} (t = {})",
+                fmt(h.point),
+                h.t
+            ),
             _ => println!("  mixed signs: outside => no intersection"),
         }
         println!(
@@ -76,9 +98,17 @@ fn main() {
 
     for (i, sph) in spheres.iter().enumerate() {
         let s = textbook::sphere_steps(&ray, sph);
-        println!("Ray-sphere problem {}: c = {}, r = {}", i + 1, fmt(sph.center), sph.radius);
+        println!(
+            "Ray-sphere problem {}: c = {}, r = {}",
+            i + 1,
+            fmt(sph.center),
+            sph.radius
+        );
         println!("  f = o - c = {}", fmt(s.f));
-        println!("  A = d . d = {}, B = 2 (f . d) = {}, C = f . f - r^2 = {}", s.a, s.b, s.c);
+        println!(
+            "  A = d . d = {}, B = 2 (f . d) = {}, C = f . f - r^2 = {}",
+            s.a, s.b, s.c
+        );
         println!("  disc = B^2 - 4AC = {}", s.disc);
         if s.disc >= 0.0 {
             println!("  t = (-B -/+ sqrt disc) / 2A = {} , {}", s.t_near, s.t_far);
@@ -86,14 +116,18 @@ fn main() {
         match s.outcome {
             SphereOutcome::Hit { hit, inside } => {
                 if inside {
-                    println!("  roots of opposite sign: the origin is inside; the far root is the hit");
+                    println!(
+                        "  roots of opposite sign: the origin is inside; the far root is the hit"
+                    );
                 } else {
                     println!("  both roots positive: the nearer is the hit");
                 }
                 println!("  => hit at {} (t = {})", fmt(hit.point), hit.t);
             }
             SphereOutcome::NoRealRoot => println!("  disc < 0 => no intersection"),
-            SphereOutcome::OutOfRange => println!("  both roots negative (behind the ray) => no intersection"),
+            SphereOutcome::OutOfRange => {
+                println!("  both roots negative (behind the ray) => no intersection")
+            }
             SphereOutcome::Invalid => println!("  invalid input => no intersection"),
         }
         let kernel = octoray::core::intersect_sphere(&ray, &PackedSphere::from(*sph));

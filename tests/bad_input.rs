@@ -28,7 +28,11 @@ fn bad_rays() -> Vec<(String, Ray)> {
     let mut r = seed_ray();
     r.dir = Vec3::ZERO;
     out.push(("zero direction".into(), r));
-    for (name, t_min, t_max) in [("t_min NaN", f32::NAN, f32::INFINITY), ("t_max NaN", 0.0, f32::NAN), ("empty range", 1.0, 0.0)] {
+    for (name, t_min, t_max) in [
+        ("t_min NaN", f32::NAN, f32::INFINITY),
+        ("t_max NaN", 0.0, f32::NAN),
+        ("empty range", 1.0, 0.0),
+    ] {
         let mut r = seed_ray();
         (r.t_min, r.t_max) = (t_min, t_max);
         out.push((name.into(), r));
@@ -39,9 +43,18 @@ fn bad_rays() -> Vec<(String, Ray)> {
 fn bad_triangles() -> Vec<(String, Triangle)> {
     let good = seed_triangles()[0];
     let mut out = vec![
-        ("collinear".to_string(), Triangle::new(good.v0, good.v1, good.v0 * 2.0 - good.v1)),
-        ("repeated vertex".to_string(), Triangle::new(good.v0, good.v0, good.v2)),
-        ("all vertices equal".to_string(), Triangle::new(good.v0, good.v0, good.v0)),
+        (
+            "collinear".to_string(),
+            Triangle::new(good.v0, good.v1, good.v0 * 2.0 - good.v1),
+        ),
+        (
+            "repeated vertex".to_string(),
+            Triangle::new(good.v0, good.v0, good.v2),
+        ),
+        (
+            "all vertices equal".to_string(),
+            Triangle::new(good.v0, good.v0, good.v0),
+        ),
     ];
     for vi in 0..3 {
         for k in 0..3 {
@@ -63,7 +76,15 @@ fn bad_triangles() -> Vec<(String, Triangle)> {
 fn bad_spheres() -> Vec<(String, Sphere)> {
     let good = seed_spheres()[1];
     let mut out = vec![];
-    for r in [-1.0, 0.0, -0.0, f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 1e30] {
+    for r in [
+        -1.0,
+        0.0,
+        -0.0,
+        f32::NAN,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        1e30,
+    ] {
         out.push((format!("radius {r}"), Sphere::new(good.center, r)));
     }
     for k in 0..3 {
@@ -87,16 +108,32 @@ fn the_base_configurations_hit() {
 
 fn assert_triangle_miss(what: &str, ray: &Ray, tri: &Triangle) {
     for test in [InsideTest::Full, InsideTest::DominantAxis] {
-        assert_eq!(textbook::intersect_triangle(ray, tri, test), None, "textbook {test:?}: {what}");
+        assert_eq!(
+            textbook::intersect_triangle(ray, tri, test),
+            None,
+            "textbook {test:?}: {what}"
+        );
     }
     let packed = PackedTriangle::from(*tri);
-    assert_eq!(octoray::core::intersect_triangle(ray, &packed), None, "MT twin: {what}");
+    assert_eq!(
+        octoray::core::intersect_triangle(ray, &packed),
+        None,
+        "MT twin: {what}"
+    );
 }
 
 fn assert_sphere_miss(what: &str, ray: &Ray, s: &Sphere) {
-    assert_eq!(textbook::intersect_sphere(ray, s), None, "textbook sphere: {what}");
+    assert_eq!(
+        textbook::intersect_sphere(ray, s),
+        None,
+        "textbook sphere: {what}"
+    );
     let packed = PackedSphere::from(*s);
-    assert_eq!(octoray::core::intersect_sphere(ray, &packed), None, "stable twin: {what}");
+    assert_eq!(
+        octoray::core::intersect_sphere(ray, &packed),
+        None,
+        "stable twin: {what}"
+    );
 }
 
 #[test]
@@ -125,7 +162,10 @@ fn bad_spheres_miss_everywhere() {
 #[test]
 fn bad_radius_is_packed_as_nan() {
     for r in [-1.0, 0.0, f32::NAN, f32::INFINITY, 1e30] {
-        assert!(PackedSphere::new(Vec3::ZERO, r).radius_sq.is_nan(), "radius {r}");
+        assert!(
+            PackedSphere::new(Vec3::ZERO, r).radius_sq.is_nan(),
+            "radius {r}"
+        );
     }
     assert_eq!(PackedSphere::new(Vec3::ZERO, 3.0).radius_sq, 9.0);
 }
@@ -138,7 +178,9 @@ fn no_poisoning<L: Lanes>() {
     let alone_t = octoray::core::intersect_triangle(&seed_ray(), &tris[0]).unwrap();
     let alone_s = octoray::core::intersect_sphere(&seed_ray(), &spheres[0]).unwrap();
     for (what, bad) in bad_rays() {
-        let rays: Vec<Ray> = (0..L::LANES).map(|i| if i % 2 == 0 { seed_ray() } else { bad }).collect();
+        let rays: Vec<Ray> = (0..L::LANES)
+            .map(|i| if i % 2 == 0 { seed_ray() } else { bad })
+            .collect();
         let p = RayPacket::<L>::load(&rays);
         let ht = packet::closest_triangle(&p, &tris);
         let hs = packet::closest_sphere(&p, &spheres);

@@ -27,22 +27,44 @@ fn check_triangles<L: Lanes>(rays: &[Ray], tris: &[PackedTriangle]) -> Result<()
         for (k, tri) in tris.iter().enumerate() {
             let h = moller_trumbore::intersect(&p, tri);
             for i in 0..L::LANES {
-                let twin = chunk.get(i).and_then(|r| octoray::core::intersect_triangle(r, tri));
-                let lane = lane_bit(h.mask, i).then(|| Hit { t: h.t.lane(i), u: h.u.lane(i), v: h.v.lane(i), prim: 0 });
-                prop_assert_eq!(bits(lane), bits(twin), "lane {} tri {} ray {:?}", i, k, chunk.get(i));
+                let twin = chunk
+                    .get(i)
+                    .and_then(|r| octoray::core::intersect_triangle(r, tri));
+                let lane = lane_bit(h.mask, i).then(|| Hit {
+                    t: h.t.lane(i),
+                    u: h.u.lane(i),
+                    v: h.v.lane(i),
+                    prim: 0,
+                });
+                prop_assert_eq!(
+                    bits(lane),
+                    bits(twin),
+                    "lane {} tri {} ray {:?}",
+                    i,
+                    k,
+                    chunk.get(i)
+                );
                 if let Some(l) = lane {
                     let r = &chunk[i];
-                    prop_assert!(l.t.is_finite() && l.t >= r.t_min && l.t <= r.t_max, "bad t {:?}", l);
+                    prop_assert!(
+                        l.t.is_finite() && l.t >= r.t_min && l.t <= r.t_max,
+                        "bad t {:?}",
+                        l
+                    );
                 }
             }
         }
         let closest = query::closest_triangle(&p, tris);
         let any = query::any_triangle(&p, tris);
         for i in 0..L::LANES {
-            let twin = chunk.get(i).map(|r| query::closest_triangle(&RayLanes::single(r), tris));
+            let twin = chunk
+                .get(i)
+                .map(|r| query::closest_triangle(&RayLanes::single(r), tris));
             let twin_hit = twin.and_then(|t| t.lane(0));
             prop_assert_eq!(bits(closest.lane(i)), bits(twin_hit), "closest lane {}", i);
-            let twin_any = chunk.get(i).is_some_and(|r| query::any_triangle(&RayLanes::single(r), tris));
+            let twin_any = chunk
+                .get(i)
+                .is_some_and(|r| query::any_triangle(&RayLanes::single(r), tris));
             prop_assert_eq!(lane_bit(any, i), twin_any, "any lane {}", i);
             // What any-hit reports must agree with closest-hit.
             prop_assert_eq!(lane_bit(any, i), closest.lane(i).is_some());
@@ -57,21 +79,43 @@ fn check_spheres<L: Lanes>(rays: &[Ray], spheres: &[PackedSphere]) -> Result<(),
         for (k, s) in spheres.iter().enumerate() {
             let h = sphere_stable::intersect(&p, s);
             for i in 0..L::LANES {
-                let twin = chunk.get(i).and_then(|r| octoray::core::intersect_sphere(r, s));
-                let lane = lane_bit(h.mask, i).then(|| Hit { t: h.t.lane(i), u: 0.0, v: 0.0, prim: 0 });
-                prop_assert_eq!(bits(lane), bits(twin), "lane {} sphere {} ray {:?}", i, k, chunk.get(i));
+                let twin = chunk
+                    .get(i)
+                    .and_then(|r| octoray::core::intersect_sphere(r, s));
+                let lane = lane_bit(h.mask, i).then(|| Hit {
+                    t: h.t.lane(i),
+                    u: 0.0,
+                    v: 0.0,
+                    prim: 0,
+                });
+                prop_assert_eq!(
+                    bits(lane),
+                    bits(twin),
+                    "lane {} sphere {} ray {:?}",
+                    i,
+                    k,
+                    chunk.get(i)
+                );
                 if let Some(l) = lane {
                     let r = &chunk[i];
-                    prop_assert!(l.t.is_finite() && l.t >= r.t_min && l.t <= r.t_max, "bad t {:?}", l);
+                    prop_assert!(
+                        l.t.is_finite() && l.t >= r.t_min && l.t <= r.t_max,
+                        "bad t {:?}",
+                        l
+                    );
                 }
             }
         }
         let closest = query::closest_sphere(&p, spheres);
         let any = query::any_sphere(&p, spheres);
         for i in 0..L::LANES {
-            let twin = chunk.get(i).and_then(|r| query::closest_sphere(&RayLanes::single(r), spheres).lane(0));
+            let twin = chunk
+                .get(i)
+                .and_then(|r| query::closest_sphere(&RayLanes::single(r), spheres).lane(0));
             prop_assert_eq!(bits(closest.lane(i)), bits(twin), "closest lane {}", i);
-            let twin_any = chunk.get(i).is_some_and(|r| query::any_sphere(&RayLanes::single(r), spheres));
+            let twin_any = chunk
+                .get(i)
+                .is_some_and(|r| query::any_sphere(&RayLanes::single(r), spheres));
             prop_assert_eq!(lane_bit(any, i), twin_any, "any lane {}", i);
             prop_assert_eq!(lane_bit(any, i), closest.lane(i).is_some());
         }
@@ -150,25 +194,40 @@ fn named_edge_cases_equal_scalar_twin() {
         [v(1.0, 0.0, 0.0), v(1.0, 1.0, 0.0), v(0.0, 1.0, 0.0)],
     ];
     let rays = vec![
-        Ray::new(v(0.5, 0.5, 1.0), v(0.0, 0.0, -1.0)),                // shared edge
-        Ray::new(v(0.0, 0.0, 1.0), v(0.0, 0.0, -1.0)),                // vertex
-        Ray::new(v(1.0, 0.0, 1.0), v(0.0, 0.0, -1.0)),                // shared vertex
-        Ray::new(v(-1.0, 0.2, 0.0), v(1.0, 0.0, 0.0)),                // in the plane
+        Ray::new(v(0.5, 0.5, 1.0), v(0.0, 0.0, -1.0)), // shared edge
+        Ray::new(v(0.0, 0.0, 1.0), v(0.0, 0.0, -1.0)), // vertex
+        Ray::new(v(1.0, 0.0, 1.0), v(0.0, 0.0, -1.0)), // shared vertex
+        Ray::new(v(-1.0, 0.2, 0.0), v(1.0, 0.0, 0.0)), // in the plane
         Ray::with_range(v(0.2, 0.2, 1.0), v(0.0, 0.0, -1.0), 0.0, 1.0), // t == t_max
         Ray::with_range(v(0.2, 0.2, 1.0), v(0.0, 0.0, -1.0), 1.0, 2.0), // t == t_min
         Ray::with_range(v(0.2, 0.2, 1.0), v(0.0, 0.0, -1.0), 0.0, 0.99999994), // just short
-        Ray::new(v(0.2, 0.2, 0.0), v(0.0, 0.0, -1.0)),                // origin on the surface
+        Ray::new(v(0.2, 0.2, 0.0), v(0.0, 0.0, -1.0)), // origin on the surface
     ];
     let packed = pack_triangles(&tris);
     check_all_widths_triangles(&rays, &packed).unwrap();
     // And the expected answers, so this test is not only self-consistency.
-    let h: Vec<Option<Hit>> = rays.iter().map(|r| query::closest_triangle(&RayLanes::single(r), &packed).lane(0)).collect();
+    let h: Vec<Option<Hit>> = rays
+        .iter()
+        .map(|r| query::closest_triangle(&RayLanes::single(r), &packed).lane(0))
+        .collect();
     assert_eq!(h[0].map(|h| h.t), Some(1.0));
     assert_eq!(h[1].map(|h| (h.t, h.prim)), Some((1.0, 0)));
-    assert_eq!(h[2].map(|h| (h.t, h.prim)), Some((1.0, 0)), "tie goes to the lower index");
+    assert_eq!(
+        h[2].map(|h| (h.t, h.prim)),
+        Some((1.0, 0)),
+        "tie goes to the lower index"
+    );
     assert_eq!(h[3], None, "a ray in the plane is a miss");
-    assert_eq!(h[4].map(|h| h.t), Some(1.0), "t == t_max is inside the closed range");
-    assert_eq!(h[5].map(|h| h.t), Some(1.0), "t == t_min is inside the closed range");
+    assert_eq!(
+        h[4].map(|h| h.t),
+        Some(1.0),
+        "t == t_max is inside the closed range"
+    );
+    assert_eq!(
+        h[5].map(|h| h.t),
+        Some(1.0),
+        "t == t_min is inside the closed range"
+    );
     assert_eq!(h[6], None);
     assert_eq!(h[7].map(|h| h.t), Some(0.0));
 }

@@ -59,3 +59,26 @@ pub fn ulp_err(a: f32, exact: f64) -> f64 {
     let ulp = f32::from_bits(near.abs().to_bits() + 1) as f64 - near.abs() as f64;
     (a as f64 - exact).abs() / ulp
 }
+
+/// A small deterministic generator (SplitMix64) for fixed-seed sweeps whose counts are printed.
+pub struct Rng(pub u64);
+
+impl Rng {
+    /// Next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    /// Uniform in [lo, hi).
+    pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        let u = (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32;
+        lo + (hi - lo) * u
+    }
+    /// Uniform in [-h, h)³.
+    pub fn vec3(&mut self, h: f32) -> Vec3 {
+        Vec3::new(self.range(-h, h), self.range(-h, h), self.range(-h, h))
+    }
+}

@@ -39,7 +39,10 @@ pub fn triangle() -> impl Strategy<Value = [Vec3; 3]> {
     let wild = (vec3(), vec3(), vec3()).prop_map(|(a, b, c)| [a, b, c]);
     let collinear = (tame(), tame(), -3.0f32..3.0).prop_map(|(a, b, k)| [a, b, a + (b - a) * k]);
     let repeated = (tame(), tame()).prop_map(|(a, b)| [a, a, b]);
-    (prop_oneof![8 => random, 2 => wild, 1 => collinear, 1 => repeated], scale())
+    (
+        prop_oneof![8 => random, 2 => wild, 1 => collinear, 1 => repeated],
+        scale(),
+    )
         .prop_map(|(t, s)| t.map(|v| v * s))
 }
 
@@ -87,8 +90,18 @@ fn range() -> impl Strategy<Value = (f32, f32)> {
 
 /// A ray spec whose origin is random (or a wild coordinate).
 pub fn ray_spec() -> impl Strategy<Value = RaySpec> {
-    (prop_oneof![6 => tame(), 1 => vec3()], any::<usize>(), aim(), range())
-        .prop_map(|(origin, target, aim, range)| RaySpec { origin, target, aim, range })
+    (
+        prop_oneof![6 => tame(), 1 => vec3()],
+        any::<usize>(),
+        aim(),
+        range(),
+    )
+        .prop_map(|(origin, target, aim, range)| RaySpec {
+            origin,
+            target,
+            aim,
+            range,
+        })
 }
 
 /// Builds the ray that `spec` describes against `tris` (the origin is scaled with the scene).
@@ -104,14 +117,23 @@ pub fn aim_at_triangle(spec: &RaySpec, tris: &[[Vec3; 3]], s: f32) -> Ray {
             p + (q - p) * f - o
         }
         Aim::Inside(u, v) => {
-            let (u, v) = if u + v > 1.0 { (1.0 - u, 1.0 - v) } else { (u, v) };
+            let (u, v) = if u + v > 1.0 {
+                (1.0 - u, 1.0 - v)
+            } else {
+                (u, v)
+            };
             a + e1 * u + e2 * v - o
         }
         Aim::Grazing(eps) => {
             let n = e1.cross(e2).normalize_or_zero();
             // Start slightly above the plane, head along it, dipping by eps.
             let start = a - e1 + n * (eps * e1.length());
-            return Ray::with_range(start, e1 + e2 * 0.25 - n * (eps * e1.length()), spec.range.0, spec.range.1);
+            return Ray::with_range(
+                start,
+                e1 + e2 * 0.25 - n * (eps * e1.length()),
+                spec.range.0,
+                spec.range.1,
+            );
         }
     };
     Ray::with_range(o, dir, spec.range.0, spec.range.1)
@@ -149,7 +171,12 @@ pub fn sphere_ray_spec() -> impl Strategy<Value = (Vec3, usize, SphereAim, (f32,
         2 => (tame(), tame()).prop_map(|(u, d)| SphereAim::OnSurface(u, d)),
         2 => (tame(), 0.99f32..1.01).prop_map(|(u, k)| SphereAim::Rim(u, k)),
     ];
-    (prop_oneof![6 => tame(), 1 => vec3()], any::<usize>(), aim, range())
+    (
+        prop_oneof![6 => tame(), 1 => vec3()],
+        any::<usize>(),
+        aim,
+        range(),
+    )
 }
 
 /// Builds the ray of a sphere spec.
@@ -173,7 +200,9 @@ pub fn aim_at_sphere(spec: &(Vec3, usize, SphereAim, (f32, f32)), spheres: &[(Ve
 
 /// Packs triangles.
 pub fn pack_triangles(tris: &[[Vec3; 3]]) -> Vec<PackedTriangle> {
-    tris.iter().map(|t| PackedTriangle::new(t[0], t[1], t[2])).collect()
+    tris.iter()
+        .map(|t| PackedTriangle::new(t[0], t[1], t[2]))
+        .collect()
 }
 
 /// Packs spheres.
