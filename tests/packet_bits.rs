@@ -4,14 +4,26 @@
 mod common;
 
 use common::strategies::*;
-use octoray::core::{moller_trumbore, query, sphere_stable, RayLanes};
+use octoray::core::kernel::{Kernel, NaiveSphere, StableSphere, Standard, Watertight};
+use octoray::core::{query, RayLanes, Scalar, VertexTriangle};
 use octoray::glam::Vec3;
 use octoray::packet::{f32x16, f32x4, f32x8, LaneMask, Lanes};
-use octoray::{Hit, PackedSphere, PackedTriangle, Ray};
+use octoray::{Hit, PackedTriangle, Ray};
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
+use wide::{f64x4, f64x8};
 
-fn bits(h: Option<Hit>) -> Option<(u32, u32, u32, u32)> {
+type Bits = (u64, u64, u64);
+
+fn bits<L: Lanes>(t: L, u: L, v: L, i: usize) -> Bits {
+    (
+        t.lane(i).to_f64().to_bits(),
+        u.lane(i).to_f64().to_bits(),
+        v.lane(i).to_f64().to_bits(),
+    )
+}
+
+fn hit_bits(h: Option<Hit>) -> Option<(u32, u32, u32, u32)> {
     h.map(|h| (h.t.to_bits(), h.u.to_bits(), h.v.to_bits(), h.prim))
 }
 
@@ -19,52 +31,75 @@ fn lane_bit<M: LaneMask>(m: M, i: usize) -> bool {
     (m.bitmask() >> i) & 1 == 1
 }
 
-/// Every packet of `rays` (the last partial) against every triangle, and the closest/any
-/// queries, compared with the `f32` twin.
-fn check_triangles<L: Lanes>(rays: &[Ray], tris: &[PackedTriangle]) -> Result<(), TestCaseError> {
+/// Every packet of `rays` (the last partial) against every primitive with kernel `K` at width
+/// `L`, and the closest/any queries, compared lane by lane with the one-lane twin `S`: the hit
+/// mask, and the bits of t, u, v (and the primitive index) wherever a lane hits.
+fn check_kernel<L, S, K, P>(rays: &[Ray], prims: &[P]) -> Result<(), TestCaseError>
+where
+    L: Lanes,
+    S: Lanes<Scalar = L::Scalar>,
+    K: Kernel<L, Prim = P> + Kernel<S, Prim = P>,
+    P: Copy + std::fmt::Debug,
+{
     for chunk in rays.chunks(L::LANES) {
         let p = RayLanes::<L>::load(chunk);
-        for (k, tri) in tris.iter().enumerate() {
-            let h = moller_trumbore::intersect(&p, tri);
+        let pre = <K as Kernel<L>>::prepare(&p);
+        let twins: Vec<RayLanes<S>> = chunk.iter().map(RayLanes::<S>::single).collect();
+        for (k, prim) in prims.iter().enumerate() {
+            let h = <K as Kernel<L>>::intersect(&p, &pre, prim);
             for i in 0..L::LANES {
-                let twin = chunk
-                    .get(i)
-                    .and_then(|r| octoray::core::intersect_triangle(r, tri));
-                let lane = lane_bit(h.mask, i).then(|| Hit {
-                    t: h.t.lane(i),
-                    u: h.u.lane(i),
-                    v: h.v.lane(i),
-                    prim: 0,
+                let twin = twins.get(i).and_then(|s| {
+                    let th = <K as Kernel<S>>::intersect(s, &<K as Kernel<S>>::prepare(s), prim);
+                    lane_bit(th.mask, 0).then(|| bits(th.t, th.u, th.v, 0))
                 });
+                let lane = lane_bit(h.mask, i).then(|| bits(h.t, h.u, h.v, i));
                 prop_assert_eq!(
-                    bits(lane),
-                    bits(twin),
-                    "lane {} tri {} ray {:?}",
+                    lane,
+                    twin,
+                    "lane {} prim {} {:?} ray {:?}",
                     i,
                     k,
+                    prim,
                     chunk.get(i)
                 );
-                if let Some(l) = lane {
-                    let r = &chunk[i];
+                if lane.is_some() {
+                    let (r, t) = (&chunk[i], h.t.lane(i).to_f64());
                     prop_assert!(
-                        l.t.is_finite() && l.t >= r.t_min && l.t <= r.t_max,
-                        "bad t {:?}",
-                        l
+                        t.abs() <= f64::from(f32::MAX)
+                            && t >= f64::from(r.t_min)
+                            && t <= f64::from(r.t_max),
+                        "bad t {} for {:?}",
+                        t,
+                        r
                     );
                 }
             }
         }
-        let closest = query::closest_triangle(&p, tris);
-        let any = query::any_triangle(&p, tris);
+        let closest = query::closest_hit::<L, K>(&p, prims);
+        let any = query::any_hit::<L, K>(&p, prims);
         for i in 0..L::LANES {
-            let twin = chunk
+            let twin = twins
                 .get(i)
-                .map(|r| query::closest_triangle(&RayLanes::single(r), tris));
-            let twin_hit = twin.and_then(|t| t.lane(0));
-            prop_assert_eq!(bits(closest.lane(i)), bits(twin_hit), "closest lane {}", i);
-            let twin_any = chunk
+                .and_then(|s| query::closest_hit::<S, K>(s, prims).lane(0));
+            prop_assert_eq!(
+                hit_bits(closest.lane(i)),
+                hit_bits(twin),
+                "closest lane {}",
+                i
+            );
+            if closest.lane(i).is_some() {
+                prop_assert_eq!(closest.t.lane(i).to_f64().to_bits(), {
+                    let s = &twins[i];
+                    query::closest_hit::<S, K>(s, prims)
+                        .t
+                        .lane(0)
+                        .to_f64()
+                        .to_bits()
+                });
+            }
+            let twin_any = twins
                 .get(i)
-                .is_some_and(|r| query::any_triangle(&RayLanes::single(r), tris));
+                .is_some_and(|s| lane_bit(query::any_hit::<S, K>(s, prims), 0));
             prop_assert_eq!(lane_bit(any, i), twin_any, "any lane {}", i);
             // What any-hit reports must agree with closest-hit.
             prop_assert_eq!(lane_bit(any, i), closest.lane(i).is_some());
@@ -73,79 +108,44 @@ fn check_triangles<L: Lanes>(rays: &[Ray], tris: &[PackedTriangle]) -> Result<()
     Ok(())
 }
 
-fn check_spheres<L: Lanes>(rays: &[Ray], spheres: &[PackedSphere]) -> Result<(), TestCaseError> {
-    for chunk in rays.chunks(L::LANES) {
-        let p = RayLanes::<L>::load(chunk);
-        for (k, s) in spheres.iter().enumerate() {
-            let h = sphere_stable::intersect(&p, s);
-            for i in 0..L::LANES {
-                let twin = chunk
-                    .get(i)
-                    .and_then(|r| octoray::core::intersect_sphere(r, s));
-                let lane = lane_bit(h.mask, i).then(|| Hit {
-                    t: h.t.lane(i),
-                    u: 0.0,
-                    v: 0.0,
-                    prim: 0,
-                });
-                prop_assert_eq!(
-                    bits(lane),
-                    bits(twin),
-                    "lane {} sphere {} ray {:?}",
-                    i,
-                    k,
-                    chunk.get(i)
-                );
-                if let Some(l) = lane {
-                    let r = &chunk[i];
-                    prop_assert!(
-                        l.t.is_finite() && l.t >= r.t_min && l.t <= r.t_max,
-                        "bad t {:?}",
-                        l
-                    );
-                }
-            }
-        }
-        let closest = query::closest_sphere(&p, spheres);
-        let any = query::any_sphere(&p, spheres);
-        for i in 0..L::LANES {
-            let twin = chunk
-                .get(i)
-                .and_then(|r| query::closest_sphere(&RayLanes::single(r), spheres).lane(0));
-            prop_assert_eq!(bits(closest.lane(i)), bits(twin), "closest lane {}", i);
-            let twin_any = chunk
-                .get(i)
-                .is_some_and(|r| query::any_sphere(&RayLanes::single(r), spheres));
-            prop_assert_eq!(lane_bit(any, i), twin_any, "any lane {}", i);
-            prop_assert_eq!(lane_bit(any, i), closest.lane(i).is_some());
-        }
+/// One kernel at all its widths on the same rays, plus every partial packet length 1..=16.
+fn all_widths<K, P>(rays: &[Ray], prims: &[P]) -> Result<(), TestCaseError>
+where
+    K: Kernel<f32, Prim = P>
+        + Kernel<f32x4, Prim = P>
+        + Kernel<f32x8, Prim = P>
+        + Kernel<f32x16, Prim = P>,
+    K: Kernel<f64, Prim = P> + Kernel<f64x4, Prim = P> + Kernel<f64x8, Prim = P>,
+    P: Copy + std::fmt::Debug,
+{
+    check_kernel::<f32x4, f32, K, P>(rays, prims)?;
+    check_kernel::<f32x8, f32, K, P>(rays, prims)?;
+    check_kernel::<f32x16, f32, K, P>(rays, prims)?;
+    // The f64 tier: the same bodies at f64 lanes against the f64 scalar twin.
+    check_kernel::<f64x4, f64, K, P>(rays, prims)?;
+    check_kernel::<f64x8, f64, K, P>(rays, prims)?;
+    for n in 1..=rays.len().min(16) {
+        check_kernel::<f32x16, f32, K, P>(&rays[..n], prims)?;
+        check_kernel::<f32x8, f32, K, P>(&rays[..n.min(8)], prims)?;
+        check_kernel::<f32x4, f32, K, P>(&rays[..n.min(4)], prims)?;
+        check_kernel::<f64x8, f64, K, P>(&rays[..n.min(8)], prims)?;
     }
     Ok(())
 }
 
-/// All widths on the same rays, plus every partial packet length 1..=16 of them.
-fn check_all_widths_triangles(rays: &[Ray], tris: &[PackedTriangle]) -> Result<(), TestCaseError> {
-    check_triangles::<f32x4>(rays, tris)?;
-    check_triangles::<f32x8>(rays, tris)?;
-    check_triangles::<f32x16>(rays, tris)?;
-    for n in 1..=rays.len().min(16) {
-        check_triangles::<f32x16>(&rays[..n], tris)?;
-        check_triangles::<f32x8>(&rays[..n.min(8)], tris)?;
-        check_triangles::<f32x4>(&rays[..n.min(4)], tris)?;
-    }
-    Ok(())
+fn check_all_widths_triangles(rays: &[Ray], tris: &[[Vec3; 3]]) -> Result<(), TestCaseError> {
+    all_widths::<Standard, PackedTriangle>(rays, &pack_triangles(tris))?;
+    let verts: Vec<VertexTriangle> = tris
+        .iter()
+        .map(|t| VertexTriangle::new(t[0], t[1], t[2]))
+        .collect();
+    all_widths::<Watertight, VertexTriangle>(rays, &verts)
 }
 
-fn check_all_widths_spheres(rays: &[Ray], spheres: &[PackedSphere]) -> Result<(), TestCaseError> {
-    check_spheres::<f32x4>(rays, spheres)?;
-    check_spheres::<f32x8>(rays, spheres)?;
-    check_spheres::<f32x16>(rays, spheres)?;
-    for n in 1..=rays.len().min(16) {
-        check_spheres::<f32x16>(&rays[..n], spheres)?;
-        check_spheres::<f32x8>(&rays[..n.min(8)], spheres)?;
-        check_spheres::<f32x4>(&rays[..n.min(4)], spheres)?;
-    }
-    Ok(())
+fn check_all_widths_spheres(rays: &[Ray], spheres: &[(Vec3, f32)]) -> Result<(), TestCaseError> {
+    let packed = pack_spheres(spheres);
+    all_widths::<StableSphere, _>(rays, &packed)?;
+    all_widths::<NaiveSphere, _>(rays, &packed)
 }
 
 proptest! {
@@ -160,7 +160,7 @@ proptest! {
         s in scale(),
     ) {
         let rays: Vec<Ray> = specs.iter().map(|sp| aim_at_triangle(sp, &tris, s)).collect();
-        check_all_widths_triangles(&rays, &pack_triangles(&tris))?;
+        check_all_widths_triangles(&rays, &tris)?;
     }
 
     /// Plain random rays and triangles in a box (the common case).
@@ -169,7 +169,7 @@ proptest! {
         tris in prop::collection::vec((tame(), tame(), tame()).prop_map(|(a, b, c)| [a, b, c]), 1..12),
         rays in prop::collection::vec((tame(), tame()).prop_map(|(o, d)| Ray::new(o, d)), 1..40),
     ) {
-        check_all_widths_triangles(&rays, &pack_triangles(&tris))?;
+        check_all_widths_triangles(&rays, &tris)?;
     }
 
     /// Spheres near, far (1e2..1e6 radii away), huge, tiny and invalid; origins on the surface,
@@ -180,7 +180,7 @@ proptest! {
         specs in prop::collection::vec(sphere_ray_spec(), 1..40),
     ) {
         let rays: Vec<Ray> = specs.iter().map(|sp| aim_at_sphere(sp, &spheres)).collect();
-        check_all_widths_spheres(&rays, &pack_spheres(&spheres))?;
+        check_all_widths_spheres(&rays, &spheres)?;
     }
 }
 
@@ -204,11 +204,11 @@ fn named_edge_cases_equal_scalar_twin() {
         Ray::new(v(0.2, 0.2, 0.0), v(0.0, 0.0, -1.0)), // origin on the surface
     ];
     let packed = pack_triangles(&tris);
-    check_all_widths_triangles(&rays, &packed).unwrap();
+    check_all_widths_triangles(&rays, &tris).unwrap();
     // And the expected answers, so this test is not only self-consistency.
     let h: Vec<Option<Hit>> = rays
         .iter()
-        .map(|r| query::closest_triangle(&RayLanes::single(r), &packed).lane(0))
+        .map(|r| query::closest_triangle(&RayLanes::<f32>::single(r), &packed).lane(0))
         .collect();
     assert_eq!(h[0].map(|h| h.t), Some(1.0));
     assert_eq!(h[1].map(|h| (h.t, h.prim)), Some((1.0, 0)));

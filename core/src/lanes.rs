@@ -1,18 +1,20 @@
 //! The lane abstraction every octoray kernel body is written against.
 //!
 //! A kernel is written once, generic over [`Lanes`], and instantiated at `f32` (one ray: the
-//! *scalar twin*) and at `wide::f32x4`, `f32x8`, `f32x16` (packets). The trait exposes only
+//! *scalar twin*) and at `wide::f32x4`, `f32x8`, `f32x16` (packets); the f64 tier instantiates
+//! the same bodies at `f64`, `wide::f64x4` and `f64x8`. The trait exposes only
 //! operations that are IEEE-exact on every `wide` backend (`+ - * /`, `sqrt`, comparisons,
 //! `abs`, negation, selection), so the same body gives the same bits at every width and on every
 //! build. It deliberately has no `mul_add` and no `recip`: `wide` fuses the first only on FMA
 //! builds and approximates the second on x86.
 
+use core::fmt::Debug;
 use core::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
-use wide::{f32x16, f32x4, f32x8, u32x16, u32x4, u32x8};
+use wide::{f32x16, f32x4, f32x8, f64x4, f64x8, u32x16, u32x4, u32x8, u64x4, u64x8};
 
 /// A per-lane boolean: `bool` for one lane, an all-ones/all-zeros lane pattern for `wide` types.
 pub trait LaneMask:
-    Copy + BitAnd<Output = Self> + BitOr<Output = Self> + Not<Output = Self>
+    Copy + Debug + BitAnd<Output = Self> + BitOr<Output = Self> + Not<Output = Self>
 {
     /// True when at least one lane is set.
     fn any(self) -> bool;
@@ -42,10 +44,75 @@ impl LaneMask for bool {
     }
 }
 
-/// `LANES` values of `f32` processed together, with only IEEE-exact operations.
+/// A lane's element type: `f32` or `f64`.
+pub trait Scalar: Copy + PartialOrd + Debug + Send + Sync + 'static {
+    /// Exact widening (or identity) from `f32`.
+    fn from_f32(x: f32) -> Self;
+    /// Rounds to `f32` (correctly rounded; values beyond `f32::MAX` become infinite).
+    fn to_f32(self) -> f32;
+    /// Exact widening (or identity) to `f64`.
+    fn to_f64(self) -> f64;
+    /// Rounds from `f64`.
+    fn from_f64(x: f64) -> Self;
+    /// Unit roundoff `u` (2⁻²⁴ for f32, 2⁻⁵³ for f64): every basic operation's relative error.
+    const UNIT_ROUNDOFF: f64;
+    /// `a·b − c·d` with the sign exact: for f32 computed in f64 (the products are exact there,
+    /// the difference rounds once) and rounded back; for f64 the plain expression.
+    fn diff_of_products_wide(a: Self, b: Self, c: Self, d: Self) -> Self;
+}
+
+impl Scalar for f32 {
+    #[inline(always)]
+    fn from_f32(x: f32) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn to_f32(self) -> f32 {
+        self
+    }
+    #[inline(always)]
+    fn to_f64(self) -> f64 {
+        self as f64
+    }
+    #[inline(always)]
+    fn from_f64(x: f64) -> Self {
+        x as f32
+    }
+    const UNIT_ROUNDOFF: f64 = 1.0 / 16_777_216.0;
+    #[inline(always)]
+    fn diff_of_products_wide(a: f32, b: f32, c: f32, d: f32) -> f32 {
+        (a as f64 * b as f64 - c as f64 * d as f64) as f32
+    }
+}
+
+impl Scalar for f64 {
+    #[inline(always)]
+    fn from_f32(x: f32) -> Self {
+        x as f64
+    }
+    #[inline(always)]
+    fn to_f32(self) -> f32 {
+        self as f32
+    }
+    #[inline(always)]
+    fn to_f64(self) -> f64 {
+        self
+    }
+    #[inline(always)]
+    fn from_f64(x: f64) -> Self {
+        x
+    }
+    const UNIT_ROUNDOFF: f64 = 1.0 / 9_007_199_254_740_992.0;
+    #[inline(always)]
+    fn diff_of_products_wide(a: f64, b: f64, c: f64, d: f64) -> f64 {
+        a * b - c * d
+    }
+}
+
+/// `LANES` values of `f32` or `f64` processed together, with only IEEE-exact operations.
 ///
-/// Implemented for `f32` (one lane, [`Self::Mask`] = `bool`) and for `wide::f32x4`, `f32x8`
-/// and `f32x16`. `wide` chooses its backend at compile time: `f32x8` is one AVX register when
+/// Implemented for `f32` and `f64` (one lane, [`Self::Mask`] = `bool`) and for `wide::f32x4`,
+/// `f32x8`, `f32x16`, `f64x4` and `f64x8`. `wide` chooses its backend at compile time: `f32x8` is one AVX register when
 /// built with `avx`, else two SSE halves; `f32x16` is one zmm register with `avx512f`.
 pub trait Lanes:
     Copy
@@ -61,13 +128,17 @@ pub trait Lanes:
     type Mask: LaneMask;
     /// Per-lane `u32` (primitive indices).
     type Index: Copy;
+    /// Element type.
+    type Scalar: Scalar;
 
-    /// Every lane set to `x`.
+    /// Every lane set to `x` (exactly widened from `f32`).
     fn splat(x: f32) -> Self;
+    /// Every lane set to `x`.
+    fn splat_scalar(x: Self::Scalar) -> Self;
     /// Lane `i` set to `f(i)`.
-    fn from_fn(f: impl FnMut(usize) -> f32) -> Self;
+    fn from_fn(f: impl FnMut(usize) -> Self::Scalar) -> Self;
     /// Lane `i` (`i < LANES`).
-    fn lane(self, i: usize) -> f32;
+    fn lane(self, i: usize) -> Self::Scalar;
     /// Correctly rounded square root.
     fn sqrt(self) -> Self;
     /// Absolute value (clears the sign bit).
@@ -101,91 +172,158 @@ pub trait Lanes:
     fn zero() -> Self {
         Self::splat(0.0)
     }
+
+    /// `a·b − c·d` per lane with an exact sign ([`Scalar::diff_of_products_wide`]), lane by lane:
+    /// slow, for rare fallbacks only.
+    #[inline]
+    fn diff_of_products_wide(a: Self, b: Self, c: Self, d: Self) -> Self {
+        Self::from_fn(|i| {
+            Self::Scalar::diff_of_products_wide(a.lane(i), b.lane(i), c.lane(i), d.lane(i))
+        })
+    }
 }
 
-impl Lanes for f32 {
-    const LANES: usize = 1;
-    type Mask = bool;
-    type Index = u32;
+/// The two operations only the fast tier may use, because their results depend on the build:
+/// `mul_add` is one fused rounding on FMA builds (wide with `fma`, aarch64) and two roundings
+/// elsewhere; `recip_refined` is `wide`'s ~12-bit reciprocal estimate on x86 refined by one
+/// Newton step (≈ 22 bits), an exact division elsewhere and for the `f32` scalar form.
+pub trait FastLanes: Lanes {
+    /// `self·a + b`, fused where the build has FMA.
+    fn mul_add(self, a: Self, b: Self) -> Self;
+    /// `1/self`, approximately (see the trait doc).
+    fn recip_refined(self) -> Self;
+}
 
+impl FastLanes for f32 {
     #[inline(always)]
-    fn splat(x: f32) -> Self {
-        x
+    fn mul_add(self, a: Self, b: Self) -> Self {
+        self * a + b
     }
     #[inline(always)]
-    fn from_fn(mut f: impl FnMut(usize) -> f32) -> Self {
-        f(0)
-    }
-    #[inline(always)]
-    fn lane(self, _i: usize) -> f32 {
-        self
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        libm::sqrtf(self)
-    }
-    #[inline(always)]
-    fn abs(self) -> Self {
-        f32::abs(self)
-    }
-    #[inline(always)]
-    fn lt(self, rhs: Self) -> bool {
-        self < rhs
-    }
-    #[inline(always)]
-    fn le(self, rhs: Self) -> bool {
-        self <= rhs
-    }
-    #[inline(always)]
-    fn gt(self, rhs: Self) -> bool {
-        self > rhs
-    }
-    #[inline(always)]
-    fn ge(self, rhs: Self) -> bool {
-        self >= rhs
-    }
-    #[inline(always)]
-    fn ne(self, rhs: Self) -> bool {
-        self != rhs
-    }
-    #[inline(always)]
-    fn is_finite(self) -> bool {
-        f32::is_finite(self)
-    }
-    #[inline(always)]
-    fn select(m: bool, a: Self, b: Self) -> Self {
-        if m {
-            a
-        } else {
-            b
-        }
-    }
-    #[inline(always)]
-    fn first_lanes(n: usize) -> bool {
-        n >= 1
-    }
-    #[inline(always)]
-    fn splat_index(i: u32) -> u32 {
-        i
-    }
-    #[inline(always)]
-    fn select_index(m: bool, a: u32, b: u32) -> u32 {
-        if m {
-            a
-        } else {
-            b
-        }
-    }
-    #[inline(always)]
-    fn index_lane(idx: u32, _i: usize) -> u32 {
-        idx
+    fn recip_refined(self) -> Self {
+        1.0 / self
     }
 }
+
+/// Implements [`FastLanes`] for a `wide` f32 type.
+macro_rules! impl_fast_lanes {
+    ($f:ident) => {
+        impl FastLanes for $f {
+            #[inline(always)]
+            fn mul_add(self, a: Self, b: Self) -> Self {
+                $f::mul_add(self, a, b)
+            }
+            #[inline(always)]
+            fn recip_refined(self) -> Self {
+                // One Newton-Raphson step on the estimate r: r' = r·(2 − x·r).
+                let r = self.recip();
+                r * ($f::splat(2.0) - self * r)
+            }
+        }
+    };
+}
+
+impl_fast_lanes!(f32x4);
+impl_fast_lanes!(f32x8);
+impl_fast_lanes!(f32x16);
+
+/// Implements [`Lanes`] for a plain scalar: one lane, `bool` masks.
+macro_rules! impl_scalar_lanes {
+    ($t:ident, $sqrt:path) => {
+        impl Lanes for $t {
+            const LANES: usize = 1;
+            type Mask = bool;
+            type Index = u32;
+            type Scalar = $t;
+
+            #[inline(always)]
+            fn splat(x: f32) -> Self {
+                <$t as Scalar>::from_f32(x)
+            }
+            #[inline(always)]
+            fn splat_scalar(x: $t) -> Self {
+                x
+            }
+            #[inline(always)]
+            fn from_fn(mut f: impl FnMut(usize) -> $t) -> Self {
+                f(0)
+            }
+            #[inline(always)]
+            fn lane(self, _i: usize) -> $t {
+                self
+            }
+            #[inline(always)]
+            fn sqrt(self) -> Self {
+                $sqrt(self)
+            }
+            #[inline(always)]
+            fn abs(self) -> Self {
+                $t::abs(self)
+            }
+            #[inline(always)]
+            fn lt(self, rhs: Self) -> bool {
+                self < rhs
+            }
+            #[inline(always)]
+            fn le(self, rhs: Self) -> bool {
+                self <= rhs
+            }
+            #[inline(always)]
+            fn gt(self, rhs: Self) -> bool {
+                self > rhs
+            }
+            #[inline(always)]
+            fn ge(self, rhs: Self) -> bool {
+                self >= rhs
+            }
+            #[inline(always)]
+            fn ne(self, rhs: Self) -> bool {
+                self != rhs
+            }
+            #[inline(always)]
+            fn is_finite(self) -> bool {
+                $t::is_finite(self)
+            }
+            #[inline(always)]
+            fn select(m: bool, a: Self, b: Self) -> Self {
+                if m {
+                    a
+                } else {
+                    b
+                }
+            }
+            #[inline(always)]
+            fn first_lanes(n: usize) -> bool {
+                n >= 1
+            }
+            #[inline(always)]
+            fn splat_index(i: u32) -> u32 {
+                i
+            }
+            #[inline(always)]
+            fn select_index(m: bool, a: u32, b: u32) -> u32 {
+                if m {
+                    a
+                } else {
+                    b
+                }
+            }
+            #[inline(always)]
+            fn index_lane(idx: u32, _i: usize) -> u32 {
+                idx
+            }
+        }
+    };
+}
+
+impl_scalar_lanes!(f32, libm::sqrtf);
+impl_scalar_lanes!(f64, libm::sqrt);
 
 /// Implements [`LaneMask`] and [`Lanes`] for one `wide` float type; the mask is the float type
-/// itself (all-ones or all-zeros per lane), the index type the `u32` vector of the same width.
+/// itself (all-ones or all-zeros per lane), the index type the unsigned vector of the same width
+/// (`u64` lanes for `f64` types; indices are stored zero-extended).
 macro_rules! impl_wide_lanes {
-    ($f:ident, $u:ident, $n:literal) => {
+    ($f:ident, $t:ident, $u:ident, $ut:ident, $n:literal) => {
         impl LaneMask for $f {
             #[inline(always)]
             fn any(self) -> bool {
@@ -205,17 +343,22 @@ macro_rules! impl_wide_lanes {
             const LANES: usize = $n;
             type Mask = $f;
             type Index = $u;
+            type Scalar = $t;
 
             #[inline(always)]
             fn splat(x: f32) -> Self {
+                $f::splat(<$t as Scalar>::from_f32(x))
+            }
+            #[inline(always)]
+            fn splat_scalar(x: $t) -> Self {
                 $f::splat(x)
             }
             #[inline(always)]
-            fn from_fn(f: impl FnMut(usize) -> f32) -> Self {
+            fn from_fn(f: impl FnMut(usize) -> $t) -> Self {
                 $f::new(core::array::from_fn(f))
             }
             #[inline(always)]
-            fn lane(self, i: usize) -> f32 {
+            fn lane(self, i: usize) -> $t {
                 self.as_array()[i]
             }
             #[inline(always)]
@@ -256,12 +399,12 @@ macro_rules! impl_wide_lanes {
             }
             #[inline(always)]
             fn first_lanes(n: usize) -> Self {
-                let idx = $f::new(core::array::from_fn(|i| i as f32));
-                idx.simd_lt($f::splat(n.min($n) as f32))
+                let idx = $f::new(core::array::from_fn(|i| i as $t));
+                idx.simd_lt($f::splat(n.min($n) as $t))
             }
             #[inline(always)]
             fn splat_index(i: u32) -> $u {
-                $u::splat(i)
+                $u::splat(i as $ut)
             }
             #[inline(always)]
             fn select_index(m: Self, a: $u, b: $u) -> $u {
@@ -270,12 +413,14 @@ macro_rules! impl_wide_lanes {
             }
             #[inline(always)]
             fn index_lane(idx: $u, i: usize) -> u32 {
-                idx.as_array()[i]
+                idx.as_array()[i] as u32
             }
         }
     };
 }
 
-impl_wide_lanes!(f32x4, u32x4, 4);
-impl_wide_lanes!(f32x8, u32x8, 8);
-impl_wide_lanes!(f32x16, u32x16, 16);
+impl_wide_lanes!(f32x4, f32, u32x4, u32, 4);
+impl_wide_lanes!(f32x8, f32, u32x8, u32, 8);
+impl_wide_lanes!(f32x16, f32, u32x16, u32, 16);
+impl_wide_lanes!(f64x4, f64, u64x4, u64, 4);
+impl_wide_lanes!(f64x8, f64, u64x8, u64, 8);

@@ -2,10 +2,13 @@
 //!
 //! - [`textbook`]: the textbook method of the seed sheet (plane, then inside-outside test with
 //!   cross products; the sphere quadratic), with every intermediate value observable.
-//! - [`moller_trumbore`], [`sphere_stable`]: the single generic body of each packet kernel,
-//!   written against [`Lanes`]. Instantiated at `f32` they are the *scalar twins* of the packet
-//!   kernels in `octoray-packet`, bit for bit.
-//! - [`query`]: closest-hit and any-hit loops over slices, generic the same way.
+//! - [`moller_trumbore`] (standard), [`watertight`], [`moller_trumbore_fast`] (fast),
+//!   [`sphere_stable`], [`sphere_naive`]: the single generic body of each packet kernel, written
+//!   against [`Lanes`]. Instantiated at `f32` they are the *scalar twins* of the packet kernels in
+//!   `octoray-packet`, bit for bit (except the fast tier, whose contract is an error bound); at
+//!   `f64`/`f64x4`/`f64x8` they are the f64 tier. [`kernel`] names the tiers.
+//! - [`query`]: closest-hit and any-hit loops over slices, generic over width and tier.
+//! - [`offset_ray_origin`]: spawn secondary rays without re-hitting the surface.
 //!
 //! Every kernel documents its accuracy contract. No `std`, no allocation, no `unsafe`.
 //!
@@ -23,39 +26,47 @@
 #![no_std]
 #![forbid(unsafe_code)]
 
+pub mod kernel;
 pub mod lanes;
 pub mod moller_trumbore;
+pub mod moller_trumbore_fast;
+pub mod offset;
 pub mod query;
 pub mod ray;
+pub mod sphere_naive;
 pub mod sphere_stable;
 pub mod textbook;
 pub mod vec3;
+pub mod watertight;
 
 pub use glam;
-pub use lanes::{LaneMask, Lanes};
-pub use ray::{Hit, PackedSphere, PackedTriangle, Ray, RayLanes, Sphere, Triangle};
+pub use kernel::{Fast, Kernel, LanesHit, NaiveSphere, StableSphere, Standard, Watertight};
+pub use lanes::{FastLanes, LaneMask, Lanes, Scalar};
+pub use offset::offset_ray_origin;
+pub use ray::{Hit, PackedSphere, PackedTriangle, Ray, RayLanes, Sphere, Triangle, VertexTriangle};
 pub use vec3::V3;
 
-/// Scalar twin of the packet Möller-Trumbore kernel: one ray against one packed triangle.
-/// `prim` is 0. Contract: [`moller_trumbore`].
-pub fn intersect_triangle(ray: &Ray, tri: &PackedTriangle) -> Option<Hit> {
-    let h = moller_trumbore::intersect(&RayLanes::single(ray), tri);
-    h.mask.then_some(Hit {
-        t: h.t,
-        u: h.u,
-        v: h.v,
+/// One ray against one primitive with kernel `K` in one lane of `L` (`f32` for the scalar twin,
+/// `f64` for the f64 tier). `prim` is 0; f64 results are rounded to f32.
+pub fn intersect<L: Lanes, K: Kernel<L>>(ray: &Ray, prim: &K::Prim) -> Option<Hit> {
+    let r = RayLanes::<L>::single(ray);
+    let h = K::intersect(&r, &K::prepare(&r), prim);
+    h.mask.bitmask().eq(&1).then(|| Hit {
+        t: h.t.lane(0).to_f32(),
+        u: h.u.lane(0).to_f32(),
+        v: h.v.lane(0).to_f32(),
         prim: 0,
     })
 }
 
-/// Scalar twin of the packet sphere kernel: one ray against one packed sphere. `u`, `v`, `prim`
-/// are 0. Contract: [`sphere_stable`].
+/// Scalar twin of the packet Möller-Trumbore kernel (standard tier): one ray against one packed
+/// triangle. `prim` is 0. Contract: [`moller_trumbore`].
+pub fn intersect_triangle(ray: &Ray, tri: &PackedTriangle) -> Option<Hit> {
+    intersect::<f32, Standard>(ray, tri)
+}
+
+/// Scalar twin of the packet sphere kernel (stable): one ray against one packed sphere. `u`, `v`,
+/// `prim` are 0. Contract: [`sphere_stable`].
 pub fn intersect_sphere(ray: &Ray, sphere: &PackedSphere) -> Option<Hit> {
-    let h = sphere_stable::intersect(&RayLanes::single(ray), sphere);
-    h.mask.then_some(Hit {
-        t: h.t,
-        u: 0.0,
-        v: 0.0,
-        prim: 0,
-    })
+    intersect::<f32, StableSphere>(ray, sphere)
 }

@@ -13,27 +13,14 @@
 //!   Non-finite inputs, zero directions, zero-area triangles, rays in or parallel to the plane,
 //!   and products that overflow (coordinates beyond ~1e12) are misses.
 
+use crate::kernel::{t_in_range, LanesHit};
 use crate::lanes::{LaneMask, Lanes};
 use crate::ray::{PackedTriangle, RayLanes};
 use crate::vec3::V3;
 
-/// Per-lane result of one ray-triangle test: `mask` marks the lanes that hit; `t`, `u`, `v` are
-/// meaningful only there.
-#[derive(Clone, Copy, Debug)]
-pub struct TriangleLanesHit<L: Lanes> {
-    /// Lanes that hit.
-    pub mask: L::Mask,
-    /// Ray parameter.
-    pub t: L,
-    /// Barycentric weight of `v1`.
-    pub u: L,
-    /// Barycentric weight of `v2`.
-    pub v: L,
-}
-
 /// Tests every lane of `ray` against one triangle.
 #[inline(always)]
-pub fn intersect<L: Lanes>(ray: &RayLanes<L>, tri: &PackedTriangle) -> TriangleLanesHit<L> {
+pub fn intersect<L: Lanes>(ray: &RayLanes<L>, tri: &PackedTriangle) -> LanesHit<L> {
     let zero = L::zero();
     let v0 = V3::<L>::splat(tri.v0);
     let e1 = V3::<L>::splat(tri.e1);
@@ -66,12 +53,7 @@ pub fn intersect<L: Lanes>(ray: &RayLanes<L>, tri: &PackedTriangle) -> TriangleL
         & t_s.ge(ray.t_min * abs_det)
         & t_s.le(ray.t_max * abs_det);
     if mask.none() {
-        return TriangleLanesHit {
-            mask,
-            t: zero,
-            u: zero,
-            v: zero,
-        };
+        return LanesHit::miss(mask);
     }
 
     // Divide only when some lane is kept. The scaled range test above rounds t_max·|det|, so
@@ -79,6 +61,6 @@ pub fn intersect<L: Lanes>(ray: &RayLanes<L>, tri: &PackedTriangle) -> TriangleL
     let t = t_num / det;
     let u = u_num / det;
     let v = v_num / det;
-    mask = mask & t.is_finite() & t.ge(ray.t_min) & t.le(ray.t_max);
-    TriangleLanesHit { mask, t, u, v }
+    mask = mask & t_in_range(ray, t);
+    LanesHit { mask, t, u, v }
 }

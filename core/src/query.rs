@@ -1,10 +1,10 @@
-//! Queries over slices of primitives, generic over lane width: closest hit and any hit
+//! Queries over slices of primitives, generic over lane width and tier: closest hit and any hit
 //! (occlusion). `L = f32` gives the scalar twins of the packet queries, with the same selection
 //! rules, so primitive indices agree lane by lane.
 
-use crate::lanes::{LaneMask, Lanes};
-use crate::ray::{Hit, PackedSphere, PackedTriangle, RayLanes};
-use crate::{moller_trumbore, sphere_stable};
+use crate::kernel::{Kernel, NaiveSphere, StableSphere, Standard, Watertight};
+use crate::lanes::{LaneMask, Lanes, Scalar};
+use crate::ray::{Hit, PackedSphere, PackedTriangle, RayLanes, VertexTriangle};
 
 /// Per-lane closest hit over a slice of primitives.
 #[derive(Clone, Copy, Debug)]
@@ -32,80 +32,86 @@ impl<L: Lanes> ClosestHit<L> {
         }
     }
 
-    /// Lane `i` as a scalar hit record, `None` where that lane missed.
+    /// Lane `i` as a scalar hit record (f64 lanes rounded to f32), `None` where that lane missed.
     pub fn lane(&self, i: usize) -> Option<Hit> {
         ((self.mask.bitmask() >> i) & 1 == 1).then(|| Hit {
-            t: self.t.lane(i),
-            u: self.u.lane(i),
-            v: self.v.lane(i),
+            t: self.t.lane(i).to_f32(),
+            u: self.u.lane(i).to_f32(),
+            v: self.v.lane(i).to_f32(),
             prim: L::index_lane(self.prim, i),
         })
     }
-
-    /// Records a hit on lanes `m` with primitive `i`; ties keep the earlier primitive because the
-    /// caller shrinks `t_max` to the best `t` and only a strictly nearer hit replaces it.
-    #[inline(always)]
-    fn update(&mut self, m: L::Mask, t: L, u: L, v: L, i: usize) {
-        let m = m & (!self.mask | t.lt(self.t));
-        self.t = L::select(m, t, self.t);
-        self.u = L::select(m, u, self.u);
-        self.v = L::select(m, v, self.v);
-        self.prim = L::select_index(m, L::splat_index(i as u32), self.prim);
-        self.mask = self.mask | m;
-    }
 }
 
-/// Closest triangle hit per lane (Möller-Trumbore, standard tier). Ties in `t` go to the lower
-/// index. Primitive indices are `u32`: slices longer than `u32::MAX` are not supported.
+/// Closest hit per lane with kernel `K`. Each hit shrinks the lane's `t_max`, and only a strictly
+/// nearer hit replaces the best one, so ties in `t` go to the lower index. Primitive indices are
+/// `u32`: slices longer than `u32::MAX` are not supported.
+pub fn closest_hit<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> ClosestHit<L> {
+    let pre = K::prepare(ray);
+    let mut ray = *ray;
+    let mut best = ClosestHit::miss();
+    for (i, prim) in prims.iter().enumerate() {
+        let h = K::intersect(&ray, &pre, prim);
+        if h.mask.any() {
+            let nearer: L::Mask = h.t.lt(best.t);
+            let m = h.mask & (!best.mask | nearer);
+            best.t = L::select(m, h.t, best.t);
+            best.u = L::select(m, h.u, best.u);
+            best.v = L::select(m, h.v, best.v);
+            best.prim = L::select_index(m, L::splat_index(i as u32), best.prim);
+            best.mask = best.mask | m;
+            ray.t_max = L::select(best.mask, best.t, ray.t_max);
+        }
+    }
+    best
+}
+
+/// Lanes whose ray hits any primitive in `[t_min, t_max]` with kernel `K` (occlusion). Stops as
+/// soon as every active lane is occluded.
+pub fn any_hit<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> L::Mask {
+    let pre = K::prepare(ray);
+    let mut hit = L::first_lanes(0);
+    for prim in prims {
+        hit = hit | K::intersect(ray, &pre, prim).mask;
+        if (hit | !ray.active).all() {
+            break;
+        }
+    }
+    hit
+}
+
+/// Closest triangle hit per lane, standard tier ([`closest_hit`] with [`Standard`]).
 pub fn closest_triangle<L: Lanes>(ray: &RayLanes<L>, tris: &[PackedTriangle]) -> ClosestHit<L> {
-    let mut ray = *ray;
-    let mut best = ClosestHit::miss();
-    for (i, tri) in tris.iter().enumerate() {
-        let h = moller_trumbore::intersect(&ray, tri);
-        if h.mask.any() {
-            best.update(h.mask, h.t, h.u, h.v, i);
-            ray.t_max = L::select(best.mask, best.t, ray.t_max);
-        }
-    }
-    best
+    closest_hit::<L, Standard>(ray, tris)
 }
 
-/// Lanes whose ray hits any triangle in `[t_min, t_max]` (occlusion). Stops as soon as every
-/// active lane is occluded.
+/// Occlusion against triangles, standard tier.
 pub fn any_triangle<L: Lanes>(ray: &RayLanes<L>, tris: &[PackedTriangle]) -> L::Mask {
-    let mut hit = L::first_lanes(0);
-    for tri in tris {
-        hit = hit | moller_trumbore::intersect(ray, tri).mask;
-        if (hit | !ray.active).all() {
-            break;
-        }
-    }
-    hit
+    any_hit::<L, Standard>(ray, tris)
 }
 
-/// Closest sphere hit per lane (stable sphere kernel). Ties in `t` go to the lower index.
+/// Closest triangle hit per lane, watertight tier.
+pub fn closest_triangle_watertight<L: Lanes>(
+    ray: &RayLanes<L>,
+    tris: &[VertexTriangle],
+) -> ClosestHit<L> {
+    closest_hit::<L, Watertight>(ray, tris)
+}
+
+/// Closest sphere hit per lane, stable sphere ([`closest_hit`] with [`StableSphere`]).
 pub fn closest_sphere<L: Lanes>(ray: &RayLanes<L>, spheres: &[PackedSphere]) -> ClosestHit<L> {
-    let mut ray = *ray;
-    let mut best = ClosestHit::miss();
-    for (i, s) in spheres.iter().enumerate() {
-        let h = sphere_stable::intersect(&ray, s);
-        if h.mask.any() {
-            best.update(h.mask, h.t, L::zero(), L::zero(), i);
-            ray.t_max = L::select(best.mask, best.t, ray.t_max);
-        }
-    }
-    best
+    closest_hit::<L, StableSphere>(ray, spheres)
 }
 
-/// Lanes whose ray hits any sphere in `[t_min, t_max]` (occlusion), stopping early when every
-/// active lane is occluded.
+/// Occlusion against spheres, stable sphere.
 pub fn any_sphere<L: Lanes>(ray: &RayLanes<L>, spheres: &[PackedSphere]) -> L::Mask {
-    let mut hit = L::first_lanes(0);
-    for s in spheres {
-        hit = hit | sphere_stable::intersect(ray, s).mask;
-        if (hit | !ray.active).all() {
-            break;
-        }
-    }
-    hit
+    any_hit::<L, StableSphere>(ray, spheres)
+}
+
+/// Closest sphere hit per lane, naive sphere.
+pub fn closest_sphere_naive<L: Lanes>(
+    ray: &RayLanes<L>,
+    spheres: &[PackedSphere],
+) -> ClosestHit<L> {
+    closest_hit::<L, NaiveSphere>(ray, spheres)
 }

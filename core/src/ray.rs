@@ -1,6 +1,6 @@
 //! Rays, primitives and hit records: the scalar types a renderer hands to octoray.
 
-use crate::lanes::{LaneMask, Lanes};
+use crate::lanes::{LaneMask, Lanes, Scalar};
 use crate::vec3::V3;
 use glam::Vec3;
 
@@ -129,6 +129,36 @@ impl From<Triangle> for PackedTriangle {
     }
 }
 
+/// A triangle as its three vertices (36 bytes, `bytemuck`-castable): what the watertight kernel
+/// reads, because watertightness needs the shared vertices themselves, not rounded edges.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct VertexTriangle {
+    /// First vertex.
+    pub v0: [f32; 3],
+    /// Second vertex.
+    pub v1: [f32; 3],
+    /// Third vertex.
+    pub v2: [f32; 3],
+}
+
+impl VertexTriangle {
+    /// Stores three vertices.
+    pub fn new(v0: Vec3, v1: Vec3, v2: Vec3) -> Self {
+        Self {
+            v0: v0.to_array(),
+            v1: v1.to_array(),
+            v2: v2.to_array(),
+        }
+    }
+}
+
+impl From<Triangle> for VertexTriangle {
+    fn from(t: Triangle) -> Self {
+        Self::new(t.v0, t.v1, t.v2)
+    }
+}
+
 /// A sphere in exactly what the sphere kernel reads: centre and squared radius (16 bytes,
 /// `bytemuck`-castable).
 #[repr(C)]
@@ -165,6 +195,7 @@ impl From<Sphere> for PackedSphere {
 
 /// `L::LANES` rays in structure-of-arrays form plus an active-lane mask. `RayLanes<f32>` is one
 /// ray (the form the scalar twins take); the packet crate calls the wide forms `RayPacket`.
+/// With f64 lanes the f32 rays are widened exactly.
 #[derive(Clone, Copy, Debug)]
 pub struct RayLanes<L: Lanes> {
     /// Origins.
@@ -184,7 +215,9 @@ impl<L: Lanes> RayLanes<L> {
     /// hold a zero ray). An empty slice gives a packet with no active lane.
     pub fn load(rays: &[Ray]) -> Self {
         let n = rays.len().min(L::LANES);
-        let get = |i: usize, f: fn(&Ray) -> f32| if i < n { f(&rays[i]) } else { 0.0 };
+        let get = |i: usize, f: fn(&Ray) -> f32| {
+            L::Scalar::from_f32(if i < n { f(&rays[i]) } else { 0.0 })
+        };
         Self {
             origin: V3::new(
                 L::from_fn(|i| get(i, |r| r.origin.x)),
@@ -208,8 +241,8 @@ impl<L: Lanes> RayLanes<L> {
     }
 }
 
-impl RayLanes<f32> {
-    /// One ray as a one-lane bundle (the form the scalar twins take).
+impl<L: Lanes> RayLanes<L> {
+    /// One ray in lane 0 (with `L = f32` or `f64`: the form the scalar twins take).
     pub fn single(ray: &Ray) -> Self {
         Self::load(core::slice::from_ref(ray))
     }

@@ -13,23 +13,14 @@
 //!   `> 0` (packed as `radius_sq = NaN`), zero or non-finite directions and non-finite inputs
 //!   are misses.
 
+use crate::kernel::{t_in_range, LanesHit};
 use crate::lanes::{LaneMask, Lanes};
 use crate::ray::{PackedSphere, RayLanes};
 use crate::vec3::V3;
 
-/// Per-lane result of one ray-sphere test: `mask` marks the lanes that hit; `t` is meaningful
-/// only there.
-#[derive(Clone, Copy, Debug)]
-pub struct SphereLanesHit<L: Lanes> {
-    /// Lanes that hit.
-    pub mask: L::Mask,
-    /// Ray parameter of the nearest root in range.
-    pub t: L,
-}
-
 /// Tests every lane of `ray` against one sphere.
 #[inline(always)]
-pub fn intersect<L: Lanes>(ray: &RayLanes<L>, sphere: &PackedSphere) -> SphereLanesHit<L> {
+pub fn intersect<L: Lanes>(ray: &RayLanes<L>, sphere: &PackedSphere) -> LanesHit<L> {
     let zero = L::zero();
     let d = ray.dir;
     let r2 = L::splat(sphere.radius_sq);
@@ -44,7 +35,7 @@ pub fn intersect<L: Lanes>(ray: &RayLanes<L>, sphere: &PackedSphere) -> SphereLa
     let disc = a * (r2 - l.dot(l));
     let mask = ray.active & a.gt(zero) & a.is_finite() & disc.ge(zero);
     if mask.none() {
-        return SphereLanesHit { mask, t: zero };
+        return LanesHit::miss(mask);
     }
 
     // Stable roots: q = −(h + sign(h)·√(Δ/4)) adds like signs; then t = c/q and t = q/a.
@@ -55,10 +46,12 @@ pub fn intersect<L: Lanes>(ray: &RayLanes<L>, sphere: &PackedSphere) -> SphereLa
     let ordered = t0.le(t1);
     let near = L::select(ordered, t0, t1);
     let far = L::select(ordered, t1, t0);
-    let near_ok = near.is_finite() & near.ge(ray.t_min) & near.le(ray.t_max);
-    let far_ok = far.is_finite() & far.ge(ray.t_min) & far.le(ray.t_max);
-    SphereLanesHit {
+    let near_ok = t_in_range(ray, near);
+    let far_ok = t_in_range(ray, far);
+    LanesHit {
         mask: mask & (near_ok | far_ok),
         t: L::select(near_ok, near, far),
+        u: zero,
+        v: zero,
     }
 }

@@ -58,7 +58,7 @@ impl<L: Lanes> V3<L> {
 
     /// Lane `i` as an array.
     #[inline(always)]
-    pub fn lane(self, i: usize) -> [f32; 3] {
+    pub fn lane(self, i: usize) -> [L::Scalar; 3] {
         [self.x.lane(i), self.y.lane(i), self.z.lane(i)]
     }
 }

@@ -1,0 +1,142 @@
+//! The accuracy tiers as kernel types, so that one query loop ([`crate::query`]) serves every
+//! tier, primitive and lane width.
+//!
+//! | tier | kernel | primitive | contract |
+//! |---|---|---|---|
+//! | standard | [`Standard`] | [`PackedTriangle`] | [`crate::moller_trumbore`] |
+//! | watertight | [`Watertight`] | [`VertexTriangle`] | [`crate::watertight`] |
+//! | fast | [`Fast`] | [`PackedTriangle`] | [`crate::moller_trumbore_fast`] |
+//! | f64 | any of the above at `L = f64`, `f64x4`, `f64x8` | same | same math, f64 rounding |
+//! | sphere stable | [`StableSphere`] | [`PackedSphere`] | [`crate::sphere_stable`] |
+//! | sphere naive | [`NaiveSphere`] | [`PackedSphere`] | [`crate::sphere_naive`] |
+//!
+//! The f64 tier reads the same f32 primitives and rays (widened exactly) and computes in f64;
+//! reported `t` is rounded once to f32 when read out as a [`crate::Hit`], and only hits whose `t`
+//! is representable as a finite f32 are reported.
+
+use crate::lanes::{FastLanes, Lanes};
+use crate::ray::{PackedSphere, PackedTriangle, RayLanes, VertexTriangle};
+
+/// Per-lane result of one ray-primitive test: `mask` marks the lanes that hit; `t`, `u`, `v` are
+/// meaningful only there (`u`, `v` are zero for spheres).
+#[derive(Clone, Copy, Debug)]
+pub struct LanesHit<L: Lanes> {
+    /// Lanes that hit.
+    pub mask: L::Mask,
+    /// Ray parameter.
+    pub t: L,
+    /// Barycentric weight of `v1` (triangles).
+    pub u: L,
+    /// Barycentric weight of `v2` (triangles).
+    pub v: L,
+}
+
+impl<L: Lanes> LanesHit<L> {
+    /// No lane hits.
+    #[inline(always)]
+    pub fn miss(mask: L::Mask) -> Self {
+        let zero = L::zero();
+        Self {
+            mask,
+            t: zero,
+            u: zero,
+            v: zero,
+        }
+    }
+}
+
+/// A ray-primitive test at lane width `L`.
+pub trait Kernel<L: Lanes> {
+    /// The primitive layout the kernel reads.
+    type Prim: Copy;
+    /// Per-ray precomputation, made once per query (for example the watertight shear).
+    type Pre: Copy;
+    /// Precomputes what depends on the ray only (not on `t_min`/`t_max`).
+    fn prepare(ray: &RayLanes<L>) -> Self::Pre;
+    /// Tests every lane of `ray` against one primitive.
+    fn intersect(ray: &RayLanes<L>, pre: &Self::Pre, prim: &Self::Prim) -> LanesHit<L>;
+}
+
+/// Standard tier: Möller-Trumbore with delayed division ([`crate::moller_trumbore`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Standard;
+
+/// Watertight tier: Woop, Benthin & Wald 2013 plus pbrt-v4's δt bound ([`crate::watertight`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Watertight;
+
+/// Fast tier: Möller-Trumbore with FMA and a refined reciprocal ([`crate::moller_trumbore_fast`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Fast;
+
+/// Stable sphere (Ray Tracing Gems ch. 7, [`crate::sphere_stable`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct StableSphere;
+
+/// Naive textbook sphere quadratic ([`crate::sphere_naive`]), kept so the trade is visible.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NaiveSphere;
+
+impl<L: Lanes> Kernel<L> for Standard {
+    type Prim = PackedTriangle;
+    type Pre = ();
+    #[inline(always)]
+    fn prepare(_: &RayLanes<L>) {}
+    #[inline(always)]
+    fn intersect(ray: &RayLanes<L>, _: &(), prim: &PackedTriangle) -> LanesHit<L> {
+        crate::moller_trumbore::intersect(ray, prim)
+    }
+}
+
+impl<L: Lanes> Kernel<L> for Watertight {
+    type Prim = VertexTriangle;
+    type Pre = crate::watertight::ShearedRay<L>;
+    #[inline(always)]
+    fn prepare(ray: &RayLanes<L>) -> Self::Pre {
+        crate::watertight::ShearedRay::new(ray)
+    }
+    #[inline(always)]
+    fn intersect(ray: &RayLanes<L>, pre: &Self::Pre, prim: &VertexTriangle) -> LanesHit<L> {
+        crate::watertight::intersect_sheared(ray, pre, prim)
+    }
+}
+
+impl<L: FastLanes> Kernel<L> for Fast {
+    type Prim = PackedTriangle;
+    type Pre = ();
+    #[inline(always)]
+    fn prepare(_: &RayLanes<L>) {}
+    #[inline(always)]
+    fn intersect(ray: &RayLanes<L>, _: &(), prim: &PackedTriangle) -> LanesHit<L> {
+        crate::moller_trumbore_fast::intersect(ray, prim)
+    }
+}
+
+impl<L: Lanes> Kernel<L> for StableSphere {
+    type Prim = PackedSphere;
+    type Pre = ();
+    #[inline(always)]
+    fn prepare(_: &RayLanes<L>) {}
+    #[inline(always)]
+    fn intersect(ray: &RayLanes<L>, _: &(), prim: &PackedSphere) -> LanesHit<L> {
+        crate::sphere_stable::intersect(ray, prim)
+    }
+}
+
+impl<L: Lanes> Kernel<L> for NaiveSphere {
+    type Prim = PackedSphere;
+    type Pre = ();
+    #[inline(always)]
+    fn prepare(_: &RayLanes<L>) {}
+    #[inline(always)]
+    fn intersect(ray: &RayLanes<L>, _: &(), prim: &PackedSphere) -> LanesHit<L> {
+        crate::sphere_naive::intersect(ray, prim)
+    }
+}
+
+/// The range check every kernel ends with: `t` is a finite f32 value (for f64 lanes: within
+/// `±f32::MAX`, so it stays finite when read out as f32) inside `[t_min, t_max]`.
+#[inline(always)]
+pub(crate) fn t_in_range<L: Lanes>(ray: &RayLanes<L>, t: L) -> L::Mask {
+    t.le(L::splat(f32::MAX)) & t.ge(L::splat(-f32::MAX)) & t.ge(ray.t_min) & t.le(ray.t_max)
+}

@@ -1,0 +1,69 @@
+//! Spawning secondary rays without re-hitting the surface they leave (pbrt-v4 §6.8.6).
+//!
+//! A hit point computed in floating point is off the true surface by up to its error bound; a
+//! ray spawned from it with `t_min = 0` can hit its own triangle again ("shadow acne"). The fix is
+//! to move the origin along the geometric normal by at least the error bound's projection onto
+//! the normal, to the side the new ray leaves towards, and to round that point away from `p`.
+
+use crate::ray::VertexTriangle;
+use glam::Vec3;
+
+/// `γ(n) = n·u / (1 − n·u)` for f32 (u = 2⁻²⁴).
+fn gamma(n: f32) -> f32 {
+    let u = f32::EPSILON * 0.5;
+    n * u / (1.0 - n * u)
+}
+
+/// The point with barycentrics `(u, v)` (weights of `v1`, `v2`) on `tri`, and a componentwise
+/// bound on its absolute error: `p = b0·v0 + b1·v1 + b2·v2` with `b0 = 1 − u − v`, error
+/// `≤ γ7·Σ|bᵢ·vᵢ|` (pbrt-v4's bound, which also covers a few ulp of error in the barycentrics).
+pub fn triangle_hit_point(tri: &VertexTriangle, u: f32, v: f32) -> (Vec3, Vec3) {
+    let (v0, v1, v2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
+    let b0 = 1.0 - u - v;
+    let p = v0 * b0 + v1 * u + v2 * v;
+    let err = ((v0 * b0).abs() + (v1 * u).abs() + (v2 * v).abs()) * gamma(7.0);
+    (p, err)
+}
+
+/// Next representable f32 towards +∞ (−0 treated as +0; ∞ and NaN unchanged).
+fn next_up(x: f32) -> f32 {
+    if x.is_infinite() && x > 0.0 || x.is_nan() {
+        return x;
+    }
+    let x = if x == 0.0 { 0.0 } else { x };
+    let b = x.to_bits();
+    f32::from_bits(if x >= 0.0 { b + 1 } else { b - 1 })
+}
+
+/// Next representable f32 towards −∞.
+fn next_down(x: f32) -> f32 {
+    -next_up(-x)
+}
+
+/// The origin for a ray leaving the surface at `p` (with componentwise error bound `p_error`,
+/// geometric normal `n`, any length) in direction `w`: `p` pushed along `±n` by
+/// `Σ|n̂ᵢ|·p_errorᵢ` to the side `w` points to, each component then rounded one ulp further
+/// away from `p`. The result lies strictly on `w`'s side of the true surface, so a ray from it
+/// with `t_min = 0` does not re-hit the surface it left.
+///
+/// Returns `p` unchanged when `n` is zero or not finite (there is no side to pick).
+pub fn offset_ray_origin(p: Vec3, p_error: Vec3, n: Vec3, w: Vec3) -> Vec3 {
+    let n = n.normalize_or_zero();
+    if n == Vec3::ZERO {
+        return p;
+    }
+    let d = n.abs().dot(p_error);
+    let mut offset = n * d;
+    if w.dot(n) < 0.0 {
+        offset = -offset;
+    }
+    let mut po = p + offset;
+    for i in 0..3 {
+        if offset[i] > 0.0 {
+            po[i] = next_up(po[i]);
+        } else if offset[i] < 0.0 {
+            po[i] = next_down(po[i]);
+        }
+    }
+    po
+}

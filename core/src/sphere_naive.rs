@@ -1,0 +1,44 @@
+//! Naive ray-sphere: the textbook quadratic `b² − 4ac` as a lane kernel, kept so the
+//! speed-accuracy trade against [`crate::sphere_stable`] is visible.
+//!
+//! # Accuracy contract (naive sphere)
+//! - Bit-identical across widths and builds (same exact operations as the other standard
+//!   kernels).
+//! - **Not sound far from the sphere**: `c = f·f − r²` and `b² − 4ac` cancel when the distance
+//!   is large compared to the radius, so hit/miss can be wrong for small distant spheres
+//!   (measured in the accuracy report at 1e2…1e6 radii) and the near root cancels in `−b + √Δ`.
+//! - Reported hits always have finite `t ∈ [t_min, t_max]`; bad input is a miss.
+
+use crate::kernel::{t_in_range, LanesHit};
+use crate::lanes::{LaneMask, Lanes};
+use crate::ray::{PackedSphere, RayLanes};
+use crate::vec3::V3;
+
+/// Tests every lane of `ray` against one sphere.
+#[inline(always)]
+pub fn intersect<L: Lanes>(ray: &RayLanes<L>, sphere: &PackedSphere) -> LanesHit<L> {
+    let zero = L::zero();
+    let d = ray.dir;
+    let f = ray.origin - V3::splat(sphere.center);
+    // a t² + b t + c = 0 with a = d·d, b = 2 f·d, c = f·f − r²; roots (−b ± √(b² − 4ac)) / 2a.
+    let a = d.dot(d);
+    let b = L::splat(2.0) * f.dot(d);
+    let c = f.dot(f) - L::splat(sphere.radius_sq);
+    let disc = b * b - L::splat(4.0) * a * c;
+    let mask = ray.active & a.gt(zero) & a.is_finite() & disc.ge(zero);
+    if mask.none() {
+        return LanesHit::miss(mask);
+    }
+    let sq = disc.sqrt();
+    let two_a = L::splat(2.0) * a;
+    let near = (-b - sq) / two_a;
+    let far = (-b + sq) / two_a;
+    let near_ok = t_in_range(ray, near);
+    let far_ok = t_in_range(ray, far);
+    LanesHit {
+        mask: mask & (near_ok | far_ok),
+        t: L::select(near_ok, near, far),
+        u: zero,
+        v: zero,
+    }
+}
