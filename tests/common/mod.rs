@@ -1,6 +1,8 @@
 //! Shared test data and helpers: the seven seed problems and ulp arithmetic.
 #![allow(dead_code)]
 
+pub mod accuracy;
+pub mod oracle;
 pub mod strategies;
 
 use octoray::glam::Vec3;
