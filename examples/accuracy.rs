@@ -3,7 +3,6 @@
 //! and the extreme cases. Run: `cargo run --release --example accuracy`.
 
 #[path = "../tests/common/mod.rs"]
-#[allow(dead_code)]
 mod common;
 
 use common::accuracy::*;

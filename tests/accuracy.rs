@@ -22,12 +22,33 @@ fn check_set(name: &str, cases: &[TriCase]) {
             "{name:>28} {:>18}: wrong {} in-margin {} bad-t {} behind {} ulp p50/p99/max {}/{}/{} scaled max {:.2}",
             tier.name(), s.wrong, s.in_margin, s.bad_t, s.behind, s.percentile(0.5), s.percentile(0.99), s.max_ulps(), s.max_scaled()
         );
-        assert!(s.exact_hits > cases.len() / 10, "{name}: the set must exercise hits");
-        assert_eq!(s.wrong, 0, "{name} {}: hit/miss wrong outside the margin", tier.name());
-        assert_eq!(s.bad_t, 0, "{name} {}: non-finite or out-of-range t", tier.name());
-        assert!(s.max_scaled() <= t_bound(tier), "{name} {}: t error {} > bound", tier.name(), s.max_scaled());
+        assert!(
+            s.exact_hits > cases.len() / 10,
+            "{name}: the set must exercise hits"
+        );
+        assert_eq!(
+            s.wrong,
+            0,
+            "{name} {}: hit/miss wrong outside the margin",
+            tier.name()
+        );
+        assert_eq!(
+            s.bad_t,
+            0,
+            "{name} {}: non-finite or out-of-range t",
+            tier.name()
+        );
+        assert!(
+            s.max_scaled() <= t_bound(tier),
+            "{name} {}: t error {} > bound",
+            tier.name(),
+            s.max_scaled()
+        );
         if matches!(tier, TriTier::Watertight | TriTier::F64Watertight) {
-            assert_eq!(s.behind, 0, "{name}: the watertight tier's δt bound must reject hits behind the origin");
+            assert_eq!(
+                s.behind, 0,
+                "{name}: the watertight tier's δt bound must reject hits behind the origin"
+            );
         }
     }
 }
@@ -45,14 +66,20 @@ fn triangle_tiers_aimed_at_edges_and_vertices() {
 #[test]
 fn triangle_tiers_grazing() {
     for (i, angle) in [1e-3f32, 1e-4, 1e-5, 1e-6, 1e-7].into_iter().enumerate() {
-        check_set(&format!("grazing {angle:e} rad"), &grazing_cases(103 + i as u64, 2000, angle));
+        check_set(
+            &format!("grazing {angle:e} rad"),
+            &grazing_cases(103 + i as u64, 2000, angle),
+        );
     }
 }
 
 #[test]
 fn triangle_tiers_translated() {
     for (i, offset) in [1e2f32, 1e4, 1e6].into_iter().enumerate() {
-        check_set(&format!("translated {offset:e}"), &translated_cases(110 + i as u64, 3000, offset, 1.0));
+        check_set(
+            &format!("translated {offset:e}"),
+            &translated_cases(110 + i as u64, 3000, offset, 1.0),
+        );
     }
 }
 
@@ -93,13 +120,20 @@ fn sphere_tiers_near() {
 #[test]
 fn sphere_tiers_distant_naive_fails_stable_holds() {
     for (i, dist) in [1e2f32, 1e4, 1e6].into_iter().enumerate() {
-        let s = check_spheres(&format!("{dist:e} r away"), &distant_sphere_cases(121 + i as u64, 4000, dist));
+        let s = check_spheres(
+            &format!("{dist:e} r away"),
+            &distant_sphere_cases(121 + i as u64, 4000, dist),
+        );
         let (naive, stable) = (&s[1], &s[2]);
         assert_eq!(stable.wrong, 0);
         if dist == 1e4 {
             // The trade the naive form exists to show: it answers hit/miss wrongly far away (at
             // 1e6 r the margin the f32 stable form needs already covers almost every case).
-            assert!(naive.wrong > 100, "naive sphere at {dist:e} r: {} wrong", naive.wrong);
+            assert!(
+                naive.wrong > 100,
+                "naive sphere at {dist:e} r: {} wrong",
+                naive.wrong
+            );
         }
     }
 }

@@ -66,7 +66,14 @@ pub enum TriTier {
 }
 
 impl TriTier {
-    pub const ALL: [TriTier; 6] = [Self::Textbook, Self::Standard, Self::Watertight, Self::Fast, Self::F64, Self::F64Watertight];
+    pub const ALL: [TriTier; 6] = [
+        Self::Textbook,
+        Self::Standard,
+        Self::Watertight,
+        Self::Fast,
+        Self::F64,
+        Self::F64Watertight,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -90,8 +97,15 @@ impl TriTier {
         let packed = PackedTriangle::new(a, b, v2);
         let verts = VertexTriangle::new(a, b, v2);
         match self {
-            Self::Textbook => textbook::intersect_triangle(&c.ray, &Triangle::new(a, b, v2), InsideTest::Full)
-                .map(|h| Hit { t: h.t, u: 0.0, v: 0.0, prim: 0 }),
+            Self::Textbook => {
+                textbook::intersect_triangle(&c.ray, &Triangle::new(a, b, v2), InsideTest::Full)
+                    .map(|h| Hit {
+                        t: h.t,
+                        u: 0.0,
+                        v: 0.0,
+                        prim: 0,
+                    })
+            }
             Self::Standard => intersect::<f32, Standard>(&c.ray, &packed),
             Self::Watertight => intersect::<f32, Watertight>(&c.ray, &verts),
             Self::Fast => closest_hit::<f32x8, Fast>(&RayLanes::load(&[c.ray]), &[packed]).lane(0),
@@ -161,7 +175,10 @@ impl Stats {
 
 /// Measures one tier on a case set against the exact oracle.
 pub fn measure_triangles(tier: TriTier, cases: &[TriCase]) -> Stats {
-    let mut s = Stats { cases: cases.len(), ..Stats::default() };
+    let mut s = Stats {
+        cases: cases.len(),
+        ..Stats::default()
+    };
     for c in cases {
         let got = tier.run(c);
         if let Some(h) = got {
@@ -184,7 +201,8 @@ pub fn measure_triangles(tier: TriTier, cases: &[TriCase]) -> Stats {
             }
             if truth.hit {
                 s.ulps.push(truth.t_ulps(h.t));
-                s.scaled.push((f64::from(h.t) - truth.t).abs() / (EPS * c.t_scale(truth.t)));
+                s.scaled
+                    .push((f64::from(h.t) - truth.t).abs() / (EPS * c.t_scale(truth.t)));
             }
         }
         if got.is_some() != truth.hit {
@@ -224,7 +242,10 @@ pub fn random_cases(seed: u64, n: usize) -> Vec<TriCase> {
             let v = good_triangle(&mut rng);
             let o = rng.vec3(4.0);
             let target = point(v, rng.range(-0.25, 1.25), rng.range(-0.25, 1.25));
-            TriCase { ray: Ray::new(o, target - o), v }
+            TriCase {
+                ray: Ray::new(o, target - o),
+                v,
+            }
         })
         .collect()
 }
@@ -237,8 +258,15 @@ pub fn edge_cases(seed: u64, n: usize) -> Vec<TriCase> {
             let v = good_triangle(&mut rng);
             let o = rng.vec3(4.0);
             let k = (rng.next_u64() % 3) as usize;
-            let target = if i % 2 == 0 { v[k] } else { v[k] + (v[(k + 1) % 3] - v[k]) * rng.range(0.0, 1.0) };
-            TriCase { ray: Ray::new(o, target - o), v }
+            let target = if i % 2 == 0 {
+                v[k]
+            } else {
+                v[k] + (v[(k + 1) % 3] - v[k]) * rng.range(0.0, 1.0)
+            };
+            TriCase {
+                ray: Ray::new(o, target - o),
+                v,
+            }
         })
         .collect()
 }
@@ -250,7 +278,11 @@ pub fn grazing_cases(seed: u64, n: usize, angle: f32) -> Vec<TriCase> {
     (0..n)
         .map(|i| {
             let skinny = if i % 2 == 0 { 0.05 } else { 1.0 };
-            let v = [Vec3::new(-1.0, -skinny, 0.0), Vec3::new(1.0, -skinny, 0.0), Vec3::new(rng.range(-1.0, 1.0), skinny, 0.0)];
+            let v = [
+                Vec3::new(-1.0, -skinny, 0.0),
+                Vec3::new(1.0, -skinny, 0.0),
+                Vec3::new(rng.range(-1.0, 1.0), skinny, 0.0),
+            ];
             let target = point(v, rng.range(-0.25, 1.25), rng.range(-0.25, 1.25));
             let az = rng.range(0.0, std::f32::consts::TAU);
             let dir = Vec3::new(az.cos() * angle.cos(), az.sin() * angle.cos(), -angle.sin());
@@ -258,7 +290,10 @@ pub fn grazing_cases(seed: u64, n: usize, angle: f32) -> Vec<TriCase> {
             // A random rotation, so the plane is not axis-aligned and nothing is exact.
             let rot = glam::Quat::from_axis_angle(rng.vec3(1.0).normalize(), rng.range(0.0, 3.0));
             let (v, o, target) = (v.map(|p| rot * p), rot * o, rot * target);
-            TriCase { ray: Ray::new(o, target - o), v }
+            TriCase {
+                ray: Ray::new(o, target - o),
+                v,
+            }
         })
         .collect()
 }
@@ -271,7 +306,10 @@ pub fn translated_cases(seed: u64, n: usize, offset: f32, scale: f32) -> Vec<Tri
         .map(|c| {
             let map = |p: Vec3| p * scale + shift;
             let (o, target) = (map(c.ray.origin), map(c.ray.origin + c.ray.dir));
-            TriCase { ray: Ray::new(o, target - o), v: c.v.map(map) }
+            TriCase {
+                ray: Ray::new(o, target - o),
+                v: c.v.map(map),
+            }
         })
         .collect()
 }
@@ -328,7 +366,13 @@ impl SphereTier {
     pub fn run(self, c: &SphereCase) -> Option<Hit> {
         let p = c.packed();
         match self {
-            Self::Textbook => textbook::intersect_sphere(&c.ray, &Sphere::new(c.center, c.radius)).map(|h| Hit { t: h.t, u: 0.0, v: 0.0, prim: 0 }),
+            Self::Textbook => textbook::intersect_sphere(&c.ray, &Sphere::new(c.center, c.radius))
+                .map(|h| Hit {
+                    t: h.t,
+                    u: 0.0,
+                    v: 0.0,
+                    prim: 0,
+                }),
             Self::Naive => intersect::<f32, NaiveSphere>(&c.ray, &p),
             Self::Stable => intersect::<f32, StableSphere>(&c.ray, &p),
             Self::F64 => intersect::<f64, StableSphere>(&c.ray, &p),
@@ -339,7 +383,10 @@ impl SphereTier {
 /// Measures a sphere tier. A case's exact answer: the line meets the packed sphere and a root lies
 /// in range; `wrong` counts hit/miss differences outside the margin on the discriminant.
 pub fn measure_spheres(tier: SphereTier, cases: &[SphereCase]) -> Stats {
-    let mut s = Stats { cases: cases.len(), ..Stats::default() };
+    let mut s = Stats {
+        cases: cases.len(),
+        ..Stats::default()
+    };
     for c in cases {
         let got = tier.run(c);
         if let Some(h) = got {
@@ -361,8 +408,13 @@ pub fn measure_spheres(tier: SphereTier, cases: &[SphereCase]) -> Stats {
         if let (Some(h), true) = (got, hit) {
             if truth.rel_disc.abs() > c.margin() {
                 s.ulps.push(truth.t_ulps(h.t));
-                let t_exact = if truth.inside() { truth.roots[1] } else { truth.roots[0] };
-                s.scaled.push((f64::from(h.t) - t_exact).abs() / (EPS * c.t_scale(t_exact)));
+                let t_exact = if truth.inside() {
+                    truth.roots[1]
+                } else {
+                    truth.roots[0]
+                };
+                s.scaled
+                    .push((f64::from(h.t) - t_exact).abs() / (EPS * c.t_scale(t_exact)));
             }
         }
         if got.is_some() != hit {
@@ -387,7 +439,11 @@ pub fn distant_sphere_cases(seed: u64, n: usize, dist: f32) -> Vec<SphereCase> {
             let dir_out = rng.vec3(1.0).normalize();
             let o = center + dir_out * (dist * r);
             let target = center + rng.vec3(1.5 * r);
-            SphereCase { ray: Ray::new(o, target - o), center, radius: r }
+            SphereCase {
+                ray: Ray::new(o, target - o),
+                center,
+                radius: r,
+            }
         })
         .collect()
 }
@@ -400,7 +456,11 @@ pub fn near_sphere_cases(seed: u64, n: usize) -> Vec<SphereCase> {
             let r = rng.range(0.5, 2.0);
             let center = rng.vec3(2.0);
             let o = center + rng.vec3(3.0 * r);
-            SphereCase { ray: Ray::new(o, rng.vec3(1.0)), center, radius: r }
+            SphereCase {
+                ray: Ray::new(o, rng.vec3(1.0)),
+                center,
+                radius: r,
+            }
         })
         .collect()
 }

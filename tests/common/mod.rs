@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod accuracy;
+pub mod mesh;
 pub mod oracle;
 pub mod strategies;
 

@@ -22,7 +22,11 @@ fn decompose(x: f32) -> Option<(i64, i32)> {
     let sign = if bits >> 31 == 1 { -1 } else { 1 };
     let exp = ((bits >> 23) & 0xff) as i32;
     let frac = (bits & 0x7f_ffff) as i64;
-    let (m, e) = if exp == 0 { (frac, -149) } else { (frac | 0x80_0000, exp - 150) };
+    let (m, e) = if exp == 0 {
+        (frac, -149)
+    } else {
+        (frac | 0x80_0000, exp - 150)
+    };
     Some((sign * m, e))
 }
 
@@ -48,7 +52,9 @@ impl Grid {
                 e = e.min(ex.div_euclid(2));
             }
         }
-        Some(Self { e: if e == i32::MAX { 0 } else { e } })
+        Some(Self {
+            e: if e == i32::MAX { 0 } else { e },
+        })
     }
     fn int(&self, x: f32, power: i32) -> BigInt {
         let (m, ex) = decompose(x).expect("finite");
@@ -94,7 +100,11 @@ fn cmp_f32_ratio(x: f32, num: &BigInt, den: &BigInt) -> Ordering {
 fn ratio_f64(num: &BigInt, den: &BigInt) -> f64 {
     // Shift both to ~60 bits before converting, so huge and tiny ratios keep their precision.
     let shift = num.bits().max(den.bits()) as i64 - 60;
-    let (n, d) = if shift > 0 { (num >> shift as usize, den >> shift as usize) } else { (num.clone(), den.clone()) };
+    let (n, d) = if shift > 0 {
+        (num >> shift as usize, den >> shift as usize)
+    } else {
+        (num.clone(), den.clone())
+    };
     match (n.to_f64(), d.to_f64()) {
         (Some(n), Some(d)) if d != 0.0 => n / d,
         _ => f64::NAN,
@@ -131,7 +141,13 @@ pub fn ulps_between(x: f32, side: impl Fn(f32) -> Ordering) -> u64 {
     };
     let wrong_side = |k: i64| {
         let y = from_ordered(k);
-        !y.is_finite() || side(y) == if dir > 0 { Ordering::Less } else { Ordering::Greater }
+        !y.is_finite()
+            || side(y)
+                == if dir > 0 {
+                    Ordering::Less
+                } else {
+                    Ordering::Greater
+                }
     };
     // Find the number of steps n ≥ 1 such that k0 + dir·n is at or past the exact value.
     let mut hi = 1i64;
@@ -199,9 +215,21 @@ pub fn triangle_packed(ray: &Ray, v: [Vec3; 3]) -> TriangleTruth {
 }
 
 fn triangle_impl(ray: &Ray, v: [Vec3; 3], packed: bool) -> TriangleTruth {
-    let bad = TriangleTruth { degenerate: true, hit: false, bary: [f64::NAN; 3], t: f64::NAN, num: BigInt::zero(), den: BigInt::from(1) };
-    let vals: Vec<f32> = [ray.origin, ray.dir, v[0], v[1], v[2]].iter().flat_map(|x| x.to_array()).collect();
-    let Some(g) = Grid::new(&vals, &[]) else { return bad };
+    let bad = TriangleTruth {
+        degenerate: true,
+        hit: false,
+        bary: [f64::NAN; 3],
+        t: f64::NAN,
+        num: BigInt::zero(),
+        den: BigInt::from(1),
+    };
+    let vals: Vec<f32> = [ray.origin, ray.dir, v[0], v[1], v[2]]
+        .iter()
+        .flat_map(|x| x.to_array())
+        .collect();
+    let Some(g) = Grid::new(&vals, &[]) else {
+        return bad;
+    };
     if ray.t_min.is_nan() || ray.t_max.is_nan() {
         return bad;
     }
@@ -224,19 +252,30 @@ fn triangle_impl(ray: &Ray, v: [Vec3; 3], packed: bool) -> TriangleTruth {
     let num = dot(&sub(&a, &o), &n);
     // Barycentric i ∝ d·((v_j − o) × (v_k − o)): the signed volume the line sweeps past edge jk.
     let (ao, bo, co) = (sub(&a, &o), sub(&b, &o), sub(&c, &o));
-    let w = [dot(&d, &cross(&bo, &co)), dot(&d, &cross(&co, &ao)), dot(&d, &cross(&ao, &bo))];
+    let w = [
+        dot(&d, &cross(&bo, &co)),
+        dot(&d, &cross(&co, &ao)),
+        dot(&d, &cross(&ao, &bo)),
+    ];
     let sum = &w[0] + &w[1] + &w[2];
     let inside = w.iter().all(|x| !x.is_negative()) || w.iter().all(|x| !x.is_positive());
-    let t_ok = |bound: f32, want: Ordering| bound.is_infinite() || {
-        let o = cmp_f32_ratio(bound, &num, &den);
-        o == want || o == Ordering::Equal
+    let t_ok = |bound: f32, want: Ordering| {
+        bound.is_infinite() || {
+            let o = cmp_f32_ratio(bound, &num, &den);
+            o == want || o == Ordering::Equal
+        }
     };
-    let in_range = t_ok(ray.t_min, Ordering::Less) && t_ok(ray.t_max, Ordering::Greater)
+    let in_range = t_ok(ray.t_min, Ordering::Less)
+        && t_ok(ray.t_max, Ordering::Greater)
         && !(ray.t_min == f32::INFINITY || ray.t_max == f32::NEG_INFINITY);
     TriangleTruth {
         degenerate: false,
         hit: inside && in_range,
-        bary: [ratio_f64(&w[0], &sum), ratio_f64(&w[1], &sum), ratio_f64(&w[2], &sum)],
+        bary: [
+            ratio_f64(&w[0], &sum),
+            ratio_f64(&w[1], &sum),
+            ratio_f64(&w[2], &sum),
+        ],
         t: ratio_f64(&num, &den),
         num,
         den,
@@ -303,12 +342,25 @@ impl SphereTruth {
 
 /// The exact ray-sphere answer for centre `c` and squared radius `r2` (as packed).
 pub fn sphere(ray: &Ray, center: Vec3, r2: f32) -> SphereTruth {
-    let bad = SphereTruth { degenerate: true, line_hits: false, rel_disc: f64::NAN, a: BigInt::zero(), h: BigInt::zero(), c: BigInt::zero(), roots: [f64::NAN; 2] };
-    if !(r2 > 0.0) || !r2.is_finite() {
+    let bad = SphereTruth {
+        degenerate: true,
+        line_hits: false,
+        rel_disc: f64::NAN,
+        a: BigInt::zero(),
+        h: BigInt::zero(),
+        c: BigInt::zero(),
+        roots: [f64::NAN; 2],
+    };
+    if r2.is_nan() || r2 <= 0.0 || r2.is_infinite() {
         return bad;
     }
-    let vals: Vec<f32> = [ray.origin, ray.dir, center].iter().flat_map(|x| x.to_array()).collect();
-    let Some(g) = Grid::new(&vals, &[r2]) else { return bad };
+    let vals: Vec<f32> = [ray.origin, ray.dir, center]
+        .iter()
+        .flat_map(|x| x.to_array())
+        .collect();
+    let Some(g) = Grid::new(&vals, &[r2]) else {
+        return bad;
+    };
     let (o, d, c) = (g.v(ray.origin), g.v(ray.dir), g.v(center));
     let f = sub(&o, &c);
     let a = dot(&d, &d);
@@ -324,10 +376,22 @@ pub fn sphere(ray: &Ray, center: Vec3, r2: f32) -> SphereTruth {
     let roots = if disc.is_negative() {
         [f64::NAN; 2]
     } else {
-        let (hr, dr, cr) = (ratio_f64(&h, &a), ratio_f64(&disc, &(&a * &a)), ratio_f64(&cc, &a));
+        let (hr, dr, cr) = (
+            ratio_f64(&h, &a),
+            ratio_f64(&disc, &(&a * &a)),
+            ratio_f64(&cc, &a),
+        );
         let q = -(hr + if hr < 0.0 { -dr.sqrt() } else { dr.sqrt() });
         let (r0, r1) = (cr / q, q);
         [r0.min(r1), r0.max(r1)]
     };
-    SphereTruth { degenerate: false, line_hits: !disc.is_negative(), rel_disc, a, h, c: cc, roots }
+    SphereTruth {
+        degenerate: false,
+        line_hits: !disc.is_negative(),
+        rel_disc,
+        a,
+        h,
+        c: cc,
+        roots,
+    }
 }

@@ -1,0 +1,189 @@
+//! Closed, jittered test meshes (every vertex stored once and shared) and the crack test.
+#![allow(dead_code)]
+
+use super::Rng;
+use glam::Vec3;
+use octoray::core::kernel::{Fast, Standard, Watertight};
+use octoray::core::query::any_hit;
+use octoray::core::{LaneMask, RayLanes, VertexTriangle};
+use octoray::packet::f32x8;
+use octoray::{PackedTriangle, Ray};
+use std::collections::HashMap;
+
+/// An indexed triangle mesh.
+pub struct Mesh {
+    pub verts: Vec<Vec3>,
+    pub tris: Vec<[u32; 3]>,
+}
+
+impl Mesh {
+    /// An icosphere (subdivided `levels` times) of radius ~1 with each vertex's radius jittered
+    /// by ±`jitter`, then scaled by `radius` and moved to `center` (rounded once, shared).
+    pub fn icosphere(levels: u32, jitter: f32, radius: f32, center: Vec3, rng: &mut Rng) -> Self {
+        let t = (1.0 + 5f32.sqrt()) / 2.0;
+        let mut verts: Vec<Vec3> = [
+            (-1.0, t, 0.0),
+            (1.0, t, 0.0),
+            (-1.0, -t, 0.0),
+            (1.0, -t, 0.0),
+            (0.0, -1.0, t),
+            (0.0, 1.0, t),
+            (0.0, -1.0, -t),
+            (0.0, 1.0, -t),
+            (t, 0.0, -1.0),
+            (t, 0.0, 1.0),
+            (-t, 0.0, -1.0),
+            (-t, 0.0, 1.0),
+        ]
+        .iter()
+        .map(|&(x, y, z)| Vec3::new(x, y, z).normalize())
+        .collect();
+        let mut tris: Vec<[u32; 3]> = vec![
+            [0, 11, 5],
+            [0, 5, 1],
+            [0, 1, 7],
+            [0, 7, 10],
+            [0, 10, 11],
+            [1, 5, 9],
+            [5, 11, 4],
+            [11, 10, 2],
+            [10, 7, 6],
+            [7, 1, 8],
+            [3, 9, 4],
+            [3, 4, 2],
+            [3, 2, 6],
+            [3, 6, 8],
+            [3, 8, 9],
+            [4, 9, 5],
+            [2, 4, 11],
+            [6, 2, 10],
+            [8, 6, 7],
+            [9, 8, 1],
+        ];
+        for _ in 0..levels {
+            let mut mid: HashMap<(u32, u32), u32> = HashMap::new();
+            let mut next = Vec::with_capacity(tris.len() * 4);
+            for [a, b, c] in tris {
+                let mut m = |i: u32, j: u32| {
+                    *mid.entry((i.min(j), i.max(j))).or_insert_with(|| {
+                        verts.push(((verts[i as usize] + verts[j as usize]) * 0.5).normalize());
+                        verts.len() as u32 - 1
+                    })
+                };
+                let (ab, bc, ca) = (m(a, b), m(b, c), m(c, a));
+                next.extend_from_slice(&[[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+            }
+            tris = next;
+        }
+        let verts = verts
+            .iter()
+            .map(|v| center + *v * (radius * (1.0 + rng.range(-jitter, jitter))))
+            .collect();
+        Self { verts, tris }
+    }
+
+    /// The surface of a cube of half-size `half` split into an n×n grid per face, each vertex
+    /// jittered by up to `jitter` grid cells along every axis, moved to `center`.
+    pub fn cube_grid(n: i32, jitter: f32, half: f32, center: Vec3, rng: &mut Rng) -> Self {
+        let mut index: HashMap<(i32, i32, i32), u32> = HashMap::new();
+        let mut verts = vec![];
+        let mut tris = vec![];
+        let cell = 2.0 * half / n as f32;
+        let mut vid = |p: (i32, i32, i32), verts: &mut Vec<Vec3>, rng: &mut Rng| {
+            *index.entry(p).or_insert_with(|| {
+                let base = Vec3::new(p.0 as f32, p.1 as f32, p.2 as f32) * cell - Vec3::splat(half);
+                verts.push(center + base + rng.vec3(jitter * cell));
+                verts.len() as u32 - 1
+            })
+        };
+        // Each face: fix one axis at 0 or n, walk the other two.
+        for axis in 0..3 {
+            for side in [0, n] {
+                for i in 0..n {
+                    for j in 0..n {
+                        let at = |a: i32, b: i32| match axis {
+                            0 => (side, a, b),
+                            1 => (a, side, b),
+                            _ => (a, b, side),
+                        };
+                        let q = [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]
+                            .map(|p| vid(p, &mut verts, rng));
+                        tris.push([q[0], q[1], q[2]]);
+                        tris.push([q[0], q[2], q[3]]);
+                    }
+                }
+            }
+        }
+        Self { verts, tris }
+    }
+
+    pub fn packed(&self) -> Vec<PackedTriangle> {
+        self.tris
+            .iter()
+            .map(|t| PackedTriangle::new(self.v(t[0]), self.v(t[1]), self.v(t[2])))
+            .collect()
+    }
+    pub fn vertex_tris(&self) -> Vec<VertexTriangle> {
+        self.tris
+            .iter()
+            .map(|t| VertexTriangle::new(self.v(t[0]), self.v(t[1]), self.v(t[2])))
+            .collect()
+    }
+    fn v(&self, i: u32) -> Vec3 {
+        self.verts[i as usize]
+    }
+
+    /// Rays from random origins within `spread` of `center`, aimed exactly at vertices, at points
+    /// of edges, at interior points, and in random directions (a quarter each).
+    pub fn rays_from_inside(&self, center: Vec3, spread: f32, n: usize, rng: &mut Rng) -> Vec<Ray> {
+        (0..n)
+            .map(|i| {
+                let o = center + rng.vec3(spread);
+                let t = self.tris[(rng.next_u64() % self.tris.len() as u64) as usize]
+                    .map(|k| self.v(k));
+                let target = match i % 4 {
+                    0 => t[(rng.next_u64() % 3) as usize],
+                    1 => t[0] + (t[1] - t[0]) * rng.range(0.0, 1.0),
+                    2 => {
+                        let (u, v) = (rng.range(0.0, 1.0), rng.range(0.0, 1.0));
+                        let (u, v) = if u + v > 1.0 {
+                            (1.0 - u, 1.0 - v)
+                        } else {
+                            (u, v)
+                        };
+                        t[0] + (t[1] - t[0]) * u + (t[2] - t[0]) * v
+                    }
+                    _ => o + rng.vec3(1.0),
+                };
+                Ray::new(o, target - o)
+            })
+            .collect()
+    }
+}
+
+/// Rays that hit no triangle of the mesh (8 lanes, any-hit), per tier.
+pub struct Escapes {
+    pub standard: usize,
+    pub watertight: usize,
+    pub fast: usize,
+}
+
+fn escapes_with<K: octoray::core::Kernel<f32x8>>(rays: &[Ray], prims: &[K::Prim]) -> usize {
+    rays.chunks(8)
+        .map(|c| {
+            let p = RayLanes::<f32x8>::load(c);
+            let hit = any_hit::<f32x8, K>(&p, prims).bitmask();
+            c.len() - hit.count_ones() as usize
+        })
+        .sum()
+}
+
+/// Counts escapes of each tier on the same rays.
+pub fn escapes(mesh: &Mesh, rays: &[Ray]) -> Escapes {
+    let (packed, verts) = (mesh.packed(), mesh.vertex_tris());
+    Escapes {
+        standard: escapes_with::<Standard>(rays, &packed),
+        watertight: escapes_with::<Watertight>(rays, &verts),
+        fast: escapes_with::<Fast>(rays, &packed),
+    }
+}
