@@ -288,14 +288,29 @@ pub fn grazing_cases(seed: u64, n: usize, angle: f32) -> Vec<TriCase> {
             let dir = Vec3::new(az.cos() * angle.cos(), az.sin() * angle.cos(), -angle.sin());
             let o = target - dir * rng.range(0.5, 3.0);
             // A random rotation, so the plane is not axis-aligned and nothing is exact.
-            let rot = glam::Quat::from_axis_angle(rng.vec3(1.0).normalize(), rng.range(0.0, 3.0));
-            let (v, o, target) = (v.map(|p| rot * p), rot * o, rot * target);
+            let (axis, ang) = (rng.vec3(1.0).normalize(), rng.range(0.0, 3.0));
+            let rot = |p: Vec3| rotate(p, axis, ang);
+            let (v, o, target) = (v.map(rot), rot(o), rot(target));
             TriCase {
                 ray: Ray::new(o, target - o),
                 v,
             }
         })
         .collect()
+}
+
+/// Rodrigues' rotation of `p` about the unit `axis` by `angle`, in plain f32 arithmetic (glam's
+/// `Quat` is SIMD-backed and fuses multiply-adds on FMA builds, which would make the generated
+/// cases differ between builds).
+fn rotate(p: Vec3, axis: Vec3, angle: f32) -> Vec3 {
+    let (s, c) = (libm::sinf(angle), libm::cosf(angle));
+    let dot = axis.x * p.x + axis.y * p.y + axis.z * p.z;
+    let cross = Vec3::new(
+        axis.y * p.z - axis.z * p.y,
+        axis.z * p.x - axis.x * p.z,
+        axis.x * p.y - axis.y * p.x,
+    );
+    p * c + cross * s + axis * (dot * (1.0 - c))
 }
 
 /// Random cases translated by `offset` along (1, 1, 1) with the scene scaled by `scale`.

@@ -1,0 +1,91 @@
+//! Determinism across builds: the standard and watertight triangle tiers and the stable sphere
+//! give the same bits on every build. A digest of their results over a fixed case set is stored
+//! here; `.ci/run` runs this test on the default (SSE2) build and with `-C target-cpu=native`
+//! (AVX2/AVX-512 here), so both builds must reproduce the stored value.
+//!
+//! If a deliberate change to a kernel changes its results, update `STORED` with the value this
+//! test prints, and say why in the commit.
+mod common;
+
+use common::accuracy::{
+    distant_sphere_cases, edge_cases, grazing_cases, near_sphere_cases, random_cases,
+};
+use octoray::core::kernel::{Kernel, StableSphere, Standard, Watertight};
+use octoray::core::query::closest_hit;
+use octoray::core::{RayLanes, VertexTriangle};
+use octoray::packet::f32x8;
+use octoray::{Hit, PackedSphere, PackedTriangle, Ray};
+
+const STORED: u64 = 0x092f_6d09_5d68_b435;
+
+/// FNV-1a over 32-bit words.
+struct Fnv(u64);
+impl Fnv {
+    fn word(&mut self, w: u32) {
+        for b in w.to_le_bytes() {
+            self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x100_0000_01b3);
+        }
+    }
+    fn hit(&mut self, h: Option<Hit>) {
+        match h {
+            None => self.word(0xffff_ffff),
+            Some(h) => {
+                for w in [h.t.to_bits(), h.u.to_bits(), h.v.to_bits(), h.prim] {
+                    self.word(w);
+                }
+            }
+        }
+    }
+}
+
+/// Each ray against a group of 8 primitives, closest hit, at width 1 and 8.
+fn digest_kernel<K, P>(f: &mut Fnv, rays: &[Ray], prims: &[P])
+where
+    K: Kernel<f32, Prim = P> + Kernel<f32x8, Prim = P>,
+    P: Copy,
+{
+    for (chunk, group) in rays.chunks(8).zip(prims.chunks(8)) {
+        let p = closest_hit::<f32x8, K>(&RayLanes::load(chunk), group);
+        for (i, r) in chunk.iter().enumerate() {
+            f.hit(closest_hit::<f32, K>(&RayLanes::single(r), group).lane(0));
+            f.hit(p.lane(i));
+        }
+    }
+}
+
+fn digest() -> u64 {
+    let mut f = Fnv(0xcbf2_9ce4_8422_2325);
+    let mut cases = random_cases(7001, 4000);
+    cases.extend(edge_cases(7002, 4000));
+    cases.extend(grazing_cases(7003, 2000, 1e-4));
+    let rays: Vec<Ray> = cases.iter().map(|c| c.ray).collect();
+    let packed: Vec<PackedTriangle> = cases
+        .iter()
+        .map(|c| PackedTriangle::new(c.v[0], c.v[1], c.v[2]))
+        .collect();
+    let verts: Vec<VertexTriangle> = cases
+        .iter()
+        .map(|c| VertexTriangle::new(c.v[0], c.v[1], c.v[2]))
+        .collect();
+    digest_kernel::<Standard, _>(&mut f, &rays, &packed);
+    digest_kernel::<Watertight, _>(&mut f, &rays, &verts);
+    let mut sc = near_sphere_cases(7004, 4000);
+    sc.extend(distant_sphere_cases(7005, 4000, 1e3));
+    let srays: Vec<Ray> = sc.iter().map(|c| c.ray).collect();
+    let spheres: Vec<PackedSphere> = sc
+        .iter()
+        .map(|c| PackedSphere::new(c.center, c.radius))
+        .collect();
+    digest_kernel::<StableSphere, _>(&mut f, &srays, &spheres);
+    f.0
+}
+
+#[test]
+fn results_match_the_stored_digest_on_this_build() {
+    let d = digest();
+    println!("determinism digest: {d:#018x}");
+    assert_eq!(
+        d, STORED,
+        "results differ from the stored digest ({d:#018x} vs {STORED:#018x})"
+    );
+}
