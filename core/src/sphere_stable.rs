@@ -9,6 +9,12 @@
 //!   so neither root cancels. `c = f·f − r²` still cancels for an origin next to the surface of
 //!   a huge sphere (there `t` near 0 has large relative error; the accuracy tiers measure it).
 //! - The nearest root in `[t_min, t_max]` is the hit; an origin inside gets the far root.
+//! - **t error bound:** `|t − t_exact| ≤ 8·ε·max(|t|, (|f| + r)/|d|)/√(Δ/(a r²))` (the last factor
+//!   is the roots' sensitivity near tangency); measured at most 4.0 over near and distant
+//!   (1e2…1e4 r) cases. Hit/miss is exact whenever `|Δ/(a r²)| > 64·ε·(1 + |f|/r)`; the naive form
+//!   gets 48 % of answers wrong outside that margin at 1e4 r.
+//! - The packed sphere stores r² in f32: for huge radii that rounding moves the surface (by
+//!   0.002 for r = 1e6), for every tier including f64.
 //! - Reported hits always have finite `t ∈ [t_min, t_max]`. A radius that is not finite and
 //!   `> 0` (packed as `radius_sq = NaN`), zero or non-finite directions and non-finite inputs
 //!   are misses.

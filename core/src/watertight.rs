@@ -17,8 +17,11 @@
 //!   never reported (tested against the exact oracle). The price is paid by rays that meet a
 //!   triangle spanning the origin's depth at a near-grazing angle: there neither condition can be
 //!   proven and true hits are rejected (the accuracy report counts them).
-//! - Reported `t` is within a few ulp of exact for well-conditioned rays (measured against the
-//!   exact oracle; see the accuracy report). Hits have finite `t ∈ [t_min, t_max]`.
+//! - **t error bound:** the same form as the standard tier,
+//!   `|t − t_exact| ≤ 8·ε·max(|t|, reach)/|cos θ|`; measured at most 2.7 (p50 0 ulp, p99 11 ulp on
+//!   random cases). Hits have finite `t ∈ [t_min, t_max]`.
+//! - Zero escapes over 10⁵ rays aimed at the vertices and edges of closed jittered meshes centred
+//!   at 0…1e6, where the standard tier lets 0.3–1.7 % escape (`tests/watertight.rs`).
 //! - Reads [`VertexTriangle`] (the three vertices): watertightness needs the shared vertices
 //!   themselves, not rounded edges.
 //! - The products are of origin-relative coordinates with z normalised by the shear, so they
@@ -56,9 +59,9 @@ pub struct ShearedRay<L: Lanes> {
 }
 
 impl<L: Lanes> ShearedRay<L> {
-    /// Chooses per lane kz = argmax |d| (ties to the lower axis), kx, ky the next two cyclically,
-    /// swapped when d[kz] < 0 to keep the winding; and the shear Sx = d[kx]/d[kz],
-    /// Sy = d[ky]/d[kz], Sz = 1/d[kz] that maps the ray onto +z.
+    /// Chooses per lane `kz = argmax |d|` (ties to the lower axis), `kx`, `ky` the next two
+    /// cyclically, swapped when `d[kz] < 0` to keep the winding; and the shear
+    /// `Sx = d[kx]/d[kz]`, `Sy = d[ky]/d[kz]`, `Sz = 1/d[kz]` that maps the ray onto +z.
     #[inline(always)]
     pub fn new(ray: &RayLanes<L>) -> Self {
         let d = ray.dir;
