@@ -50,12 +50,20 @@ fn cracks() {
     for (i, c) in [0.0f32, 1e2, 1e4, 1e6].into_iter().enumerate() {
         let center = Vec3::new(c, -0.5 * c, 0.25 * c);
         let mut rng = Rng(1000 + i as u64);
-        let meshes = [("icosphere", Mesh::icosphere(3, 0.1, 1.0, center, &mut rng)), ("cube grid", Mesh::cube_grid(8, 0.2, 1.0, center, &mut rng))];
+        let meshes = [
+            ("icosphere", Mesh::icosphere(3, 0.1, 1.0, center, &mut rng)),
+            ("cube grid", Mesh::cube_grid(8, 0.2, 1.0, center, &mut rng)),
+        ];
         for (name, mesh) in &meshes {
             let rays = mesh.rays_from_inside(center, 0.1, 12_500, &mut rng);
             let e = escapes(mesh, &rays);
             let pct = |k: usize| format!("{k} ({:.3} %)", 100.0 * k as f64 / rays.len() as f64);
-            println!("| {name} | {c:e} | {} | {} | {} |", pct(e.standard), pct(e.fast), pct(e.watertight));
+            println!(
+                "| {name} | {c:e} | {} | {} | {} |",
+                pct(e.standard),
+                pct(e.fast),
+                pct(e.watertight)
+            );
         }
     }
 }
@@ -81,23 +89,77 @@ fn extremes() {
         let big = 10f32.powi(e);
         let s = big / 16.0;
         let tri = [v(big, big, big), v(big + s, big, big), v(big, big + s, big)];
-        cases.push((format!("translated 1e{e}, nominal t = 1"), TriCase { ray: Ray::new(v(big + s / 4.0, big + s / 4.0, big + s), v(0.0, 0.0, -s)), v: tri }));
+        cases.push((
+            format!("translated 1e{e}, nominal t = 1"),
+            TriCase {
+                ray: Ray::new(v(big + s / 4.0, big + s / 4.0, big + s), v(0.0, 0.0, -s)),
+                v: tri,
+            },
+        ));
     }
     for big in [1e13f32, 1e19] {
         let tri = [v(0.0, 0.0, 0.0), v(big, 0.0, 0.0), v(0.0, big, 0.0)];
-        cases.push((format!("size {big:e} (overflow), nominal t = 1"), TriCase { ray: Ray::new(v(big / 4.0, big / 4.0, big), v(0.0, 0.0, -big)), v: tri }));
+        cases.push((
+            format!("size {big:e} (overflow), nominal t = 1"),
+            TriCase {
+                ray: Ray::new(v(big / 4.0, big / 4.0, big), v(0.0, 0.0, -big)),
+                v: tri,
+            },
+        ));
     }
     for tiny in [1e-16f32, 1e-30] {
         let tri = [v(0.0, 0.0, 0.0), v(tiny, 0.0, 0.0), v(0.0, tiny, 0.0)];
-        cases.push((format!("size {tiny:e} (underflow), nominal t = 1"), TriCase { ray: Ray::new(v(tiny / 4.0, tiny / 4.0, tiny), v(0.0, 0.0, -tiny)), v: tri }));
+        cases.push((
+            format!("size {tiny:e} (underflow), nominal t = 1"),
+            TriCase {
+                ray: Ray::new(v(tiny / 4.0, tiny / 4.0, tiny), v(0.0, 0.0, -tiny)),
+                v: tri,
+            },
+        ));
     }
     let unit = [v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.0, 1.0, 0.0)];
-    cases.push(("size 1e-6 at distance 1, nominal t = 1".into(), TriCase { ray: Ray::new(v(0.0, 0.0, 1.0), v(2.5e-7, 2.5e-7, -1.0)), v: unit.map(|p| p * 1e-6) }));
-    cases.push(("subnormal direction (t = 1e40 > f32::MAX)".into(), TriCase { ray: Ray::new(v(0.2, 0.2, 1.0), v(0.0, 0.0, -1e-40)), v: unit }));
-    cases.push(("origin 1e-40 above the plane".into(), TriCase { ray: Ray::new(v(0.2, 0.2, 1e-40), v(0.0, 0.0, -1.0)), v: unit }));
-    cases.push(("ray inside the plane".into(), TriCase { ray: Ray::new(v(-1.0, 0.25, 0.0), v(1.0, 0.0, 0.0)), v: unit }));
-    cases.push(("NaN in the origin".into(), TriCase { ray: Ray::new(v(f32::NAN, 0.2, 1.0), v(0.0, 0.0, -1.0)), v: unit }));
-    cases.push(("zero direction".into(), TriCase { ray: Ray::new(v(0.2, 0.2, 1.0), Vec3::ZERO), v: unit }));
+    cases.push((
+        "size 1e-6 at distance 1, nominal t = 1".into(),
+        TriCase {
+            ray: Ray::new(v(0.0, 0.0, 1.0), v(2.5e-7, 2.5e-7, -1.0)),
+            v: unit.map(|p| p * 1e-6),
+        },
+    ));
+    cases.push((
+        "subnormal direction (t = 1e40 > f32::MAX)".into(),
+        TriCase {
+            ray: Ray::new(v(0.2, 0.2, 1.0), v(0.0, 0.0, -1e-40)),
+            v: unit,
+        },
+    ));
+    cases.push((
+        "origin 1e-40 above the plane".into(),
+        TriCase {
+            ray: Ray::new(v(0.2, 0.2, 1e-40), v(0.0, 0.0, -1.0)),
+            v: unit,
+        },
+    ));
+    cases.push((
+        "ray inside the plane".into(),
+        TriCase {
+            ray: Ray::new(v(-1.0, 0.25, 0.0), v(1.0, 0.0, 0.0)),
+            v: unit,
+        },
+    ));
+    cases.push((
+        "NaN in the origin".into(),
+        TriCase {
+            ray: Ray::new(v(f32::NAN, 0.2, 1.0), v(0.0, 0.0, -1.0)),
+            v: unit,
+        },
+    ));
+    cases.push((
+        "zero direction".into(),
+        TriCase {
+            ray: Ray::new(v(0.2, 0.2, 1.0), Vec3::ZERO),
+            v: unit,
+        },
+    ));
     for (name, c) in &cases {
         print!("| {name} |");
         for t in TriTier::ALL {
@@ -146,5 +208,8 @@ fn main() {
     }
     cracks();
     extremes();
-    println!("\n(report computed in {:.1} s)", start.elapsed().as_secs_f64());
+    println!(
+        "\n(report computed in {:.1} s)",
+        start.elapsed().as_secs_f64()
+    );
 }

@@ -1,0 +1,334 @@
+//! Every speed entry (our kernels at each tier and width, and the peers), runnable on a prepared
+//! workload: the one list the criterion benches, the cycle counts and the trade report share.
+
+use crate::peers;
+use crate::workload::Workload;
+use glam::Vec3A;
+use octoray::core::kernel::{Fast, Kernel, NaiveSphere, StableSphere, Standard, Watertight};
+use octoray::core::query::{any_hit, closest_hit};
+use octoray::core::textbook::{self, InsideTest};
+use octoray::core::{LaneMask, Lanes, RayLanes, VertexTriangle};
+use octoray::packet::{f32x16, f32x4, f32x8};
+use octoray::{PackedSphere, PackedTriangle, Ray, Sphere, Triangle};
+use wide::{f64x4, f64x8};
+
+/// A workload in every layout the entries read, prepared once.
+pub struct Prepared {
+    pub w: Workload,
+    pub packed: Vec<PackedTriangle>,
+    pub vertex: Vec<VertexTriangle>,
+    pub spheres: Vec<PackedSphere>,
+    pub glam: Vec<[Vec3A; 3]>,
+    pub uv_rays: Vec<(ultraviolet::Vec3x8, ultraviolet::Vec3x8)>,
+    pub uv_tris: Vec<[ultraviolet::Vec3; 3]>,
+    pub obvhs: Vec<obvhs::triangle::Triangle>,
+    pub bvh: Vec<[nalgebra::Point3<f32>; 3]>,
+    pub parry: Vec<parry3d::shape::Triangle>,
+}
+
+impl Prepared {
+    pub fn new(w: Workload) -> Self {
+        Self {
+            packed: w.packed(),
+            vertex: w.vertex(),
+            spheres: w.packed_spheres(),
+            glam: peers::glam_tris(&w.tris),
+            uv_rays: peers::uv_packets(&w.rays),
+            uv_tris: peers::uv_tris(&w.tris),
+            obvhs: peers::obvhs_tris(&w.tris),
+            bvh: peers::bvh_tris(&w.tris),
+            parry: peers::parry_tris(&w.tris),
+            w,
+        }
+    }
+}
+
+/// What an entry tests.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Prim {
+    Triangle,
+    Sphere,
+}
+
+/// What an entry asks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Query {
+    Closest,
+    Any,
+}
+
+/// One benchmarked kernel: a name, what it tests, and a pass over the workload returning the
+/// number of rays that hit (so nothing is optimised away and entries can be cross-checked).
+#[derive(Clone, Copy)]
+pub struct Entry {
+    pub name: &'static str,
+    pub prim: Prim,
+    pub query: Query,
+    pub ours: bool,
+    pub run: fn(&Prepared) -> u32,
+}
+
+fn closest<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim]) -> u32 {
+    rays.chunks(L::LANES)
+        .map(|c| {
+            closest_hit::<L, K>(&RayLanes::load(c), prims)
+                .mask
+                .bitmask()
+                .count_ones()
+        })
+        .sum()
+}
+
+fn any<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim]) -> u32 {
+    rays.chunks(L::LANES)
+        .map(|c| {
+            any_hit::<L, K>(&RayLanes::load(c), prims)
+                .bitmask()
+                .count_ones()
+        })
+        .sum()
+}
+
+fn textbook_tris(p: &Prepared) -> u32 {
+    let tris: Vec<Triangle> =
+        p.w.tris
+            .iter()
+            .map(|t| Triangle::new(t[0], t[1], t[2]))
+            .collect();
+    let mut hits = 0;
+    for r in &p.w.rays {
+        let mut ray = *r;
+        let mut hit = false;
+        for t in &tris {
+            if let Some(h) = textbook::intersect_triangle(&ray, t, InsideTest::Full) {
+                ray.t_max = h.t;
+                hit = true;
+            }
+        }
+        hits += u32::from(hit);
+    }
+    hits
+}
+
+fn textbook_spheres(p: &Prepared) -> u32 {
+    let s: Vec<Sphere> =
+        p.w.spheres
+            .iter()
+            .map(|&(c, r)| Sphere::new(c, r))
+            .collect();
+    let mut hits = 0;
+    for r in &p.w.rays {
+        let mut ray = *r;
+        let mut hit = false;
+        for sp in &s {
+            if let Some(h) = textbook::intersect_sphere(&ray, sp) {
+                ray.t_max = h.t;
+                hit = true;
+            }
+        }
+        hits += u32::from(hit);
+    }
+    hits
+}
+
+macro_rules! e {
+    ($name:literal, $prim:ident, $query:ident, $ours:literal, $f:expr) => {
+        Entry {
+            name: $name,
+            prim: Prim::$prim,
+            query: Query::$query,
+            ours: $ours,
+            run: $f,
+        }
+    };
+}
+
+/// Every entry.
+pub fn entries() -> Vec<Entry> {
+    vec![
+        e!("textbook scalar", Triangle, Closest, true, textbook_tris),
+        e!("standard x1 (scalar twin)", Triangle, Closest, true, |p| {
+            closest::<f32, Standard>(&p.w.rays, &p.packed)
+        }),
+        e!("standard x4", Triangle, Closest, true, |p| closest::<
+            f32x4,
+            Standard,
+        >(
+            &p.w.rays, &p.packed
+        )),
+        e!("standard x8", Triangle, Closest, true, |p| closest::<
+            f32x8,
+            Standard,
+        >(
+            &p.w.rays, &p.packed
+        )),
+        e!("standard x16", Triangle, Closest, true, |p| closest::<
+            f32x16,
+            Standard,
+        >(
+            &p.w.rays, &p.packed
+        )),
+        e!("watertight x1", Triangle, Closest, true, |p| closest::<
+            f32,
+            Watertight,
+        >(
+            &p.w.rays, &p.vertex
+        )),
+        e!("watertight x8", Triangle, Closest, true, |p| closest::<
+            f32x8,
+            Watertight,
+        >(
+            &p.w.rays, &p.vertex
+        )),
+        e!("watertight x16", Triangle, Closest, true, |p| closest::<
+            f32x16,
+            Watertight,
+        >(
+            &p.w.rays, &p.vertex
+        )),
+        e!(
+            "fast x8",
+            Triangle,
+            Closest,
+            true,
+            |p| closest::<f32x8, Fast>(&p.w.rays, &p.packed)
+        ),
+        e!("fast x16", Triangle, Closest, true, |p| closest::<
+            f32x16,
+            Fast,
+        >(
+            &p.w.rays, &p.packed
+        )),
+        e!("f64 x1", Triangle, Closest, true, |p| closest::<
+            f64,
+            Standard,
+        >(
+            &p.w.rays, &p.packed
+        )),
+        e!("f64 x4", Triangle, Closest, true, |p| closest::<
+            f64x4,
+            Standard,
+        >(
+            &p.w.rays, &p.packed
+        )),
+        e!("f64 x8", Triangle, Closest, true, |p| closest::<
+            f64x8,
+            Standard,
+        >(
+            &p.w.rays, &p.packed
+        )),
+        e!("standard x1 any", Triangle, Any, true, |p| any::<
+            f32,
+            Standard,
+        >(
+            &p.w.rays, &p.packed
+        )),
+        e!("standard x8 any", Triangle, Any, true, |p| any::<
+            f32x8,
+            Standard,
+        >(
+            &p.w.rays, &p.packed
+        )),
+        e!("standard x16 any", Triangle, Any, true, |p| any::<
+            f32x16,
+            Standard,
+        >(
+            &p.w.rays, &p.packed
+        )),
+        e!("watertight x8 any", Triangle, Any, true, |p| any::<
+            f32x8,
+            Watertight,
+        >(
+            &p.w.rays, &p.vertex
+        )),
+        e!("peer: glam MT scalar", Triangle, Closest, false, |p| {
+            peers::glam_closest(&p.w.rays, &p.glam)
+        }),
+        e!(
+            "peer: ultraviolet Vec3x8 MT",
+            Triangle,
+            Closest,
+            false,
+            |p| peers::uv_closest(&p.uv_rays, &p.uv_tris)
+        ),
+        e!("peer: obvhs", Triangle, Closest, false, |p| {
+            peers::obvhs_closest(&p.w.rays, &p.obvhs)
+        }),
+        e!("peer: bvh", Triangle, Closest, false, |p| {
+            peers::bvh_closest(&p.w.rays, &p.bvh)
+        }),
+        e!("peer: parry3d", Triangle, Closest, false, |p| {
+            peers::parry_closest(&p.w.rays, &p.parry)
+        }),
+        e!(
+            "sphere textbook scalar",
+            Sphere,
+            Closest,
+            true,
+            textbook_spheres
+        ),
+        e!("sphere naive x1", Sphere, Closest, true, |p| closest::<
+            f32,
+            NaiveSphere,
+        >(
+            &p.w.rays, &p.spheres
+        )),
+        e!("sphere naive x8", Sphere, Closest, true, |p| closest::<
+            f32x8,
+            NaiveSphere,
+        >(
+            &p.w.rays, &p.spheres
+        )),
+        e!("sphere stable x1", Sphere, Closest, true, |p| closest::<
+            f32,
+            StableSphere,
+        >(
+            &p.w.rays, &p.spheres
+        )),
+        e!("sphere stable x4", Sphere, Closest, true, |p| closest::<
+            f32x4,
+            StableSphere,
+        >(
+            &p.w.rays, &p.spheres
+        )),
+        e!("sphere stable x8", Sphere, Closest, true, |p| closest::<
+            f32x8,
+            StableSphere,
+        >(
+            &p.w.rays, &p.spheres
+        )),
+        e!("sphere stable x16", Sphere, Closest, true, |p| closest::<
+            f32x16,
+            StableSphere,
+        >(
+            &p.w.rays, &p.spheres
+        )),
+        e!("sphere f64 x4", Sphere, Closest, true, |p| closest::<
+            f64x4,
+            StableSphere,
+        >(
+            &p.w.rays, &p.spheres
+        )),
+        e!("sphere stable x8 any", Sphere, Any, true, |p| any::<
+            f32x8,
+            StableSphere,
+        >(
+            &p.w.rays, &p.spheres
+        )),
+        e!(
+            "peer: glam naive sphere scalar",
+            Sphere,
+            Closest,
+            false,
+            |p| peers::glam_spheres(&p.w.rays, &p.w.spheres)
+        ),
+        e!("peer: parry3d Ball", Sphere, Closest, false, |p| {
+            peers::parry_spheres(&p.w.rays, &p.w.spheres)
+        }),
+    ]
+}
+
+/// The entry called `name`.
+pub fn entry(name: &str) -> Option<Entry> {
+    entries().into_iter().find(|e| e.name == name)
+}
