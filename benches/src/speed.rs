@@ -5,7 +5,7 @@ use crate::peers;
 use crate::workload::Workload;
 use glam::Vec3A;
 use octoray::core::kernel::{Fast, Kernel, NaiveSphere, StableSphere, Standard, Watertight};
-use octoray::core::query::{any_hit, closest_hit};
+use octoray::core::query::{any_hit, closest_hit, closest_t};
 use octoray::core::textbook::{self, InsideTest};
 use octoray::core::{LaneMask, Lanes, RayLanes, VertexTriangle};
 use octoray::packet::{f32x16, f32x4, f32x8};
@@ -73,6 +73,17 @@ fn closest<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim]) -> u32 {
         .map(|c| {
             closest_hit::<L, K>(&RayLanes::load(c), prims)
                 .mask
+                .bitmask()
+                .count_ones()
+        })
+        .sum()
+}
+
+fn nearest_t<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim]) -> u32 {
+    rays.chunks(L::LANES)
+        .map(|c| {
+            closest_t::<L, K>(&RayLanes::load(c), prims)
+                .0
                 .bitmask()
                 .count_ones()
         })
@@ -217,6 +228,12 @@ pub fn entries() -> Vec<Entry> {
         >(
             &p.w.rays, &p.packed
         )),
+        e!("standard x8 closest-t", Triangle, Closest, true, |p| {
+            nearest_t::<f32x8, Standard>(&p.w.rays, &p.packed)
+        }),
+        e!("standard x16 closest-t", Triangle, Closest, true, |p| {
+            nearest_t::<f32x16, Standard>(&p.w.rays, &p.packed)
+        }),
         e!("standard x1 any", Triangle, Any, true, |p| any::<
             f32,
             Standard,

@@ -22,18 +22,24 @@
 use crate::lanes::{FastLanes, Lanes};
 use crate::ray::{PackedSphere, PackedTriangle, RayLanes, VertexTriangle};
 
-/// Per-lane result of one ray-primitive test: `mask` marks the lanes that hit; `t`, `u`, `v` are
-/// meaningful only there (`u`, `v` are zero for spheres).
+/// Per-lane result of one ray-primitive test: `mask` marks the lanes that hit; the fields are
+/// meaningful only there.
+///
+/// The barycentrics are returned as numerators over a common denominator (`u/scale`,
+/// `v/scale`), so a closest-hit query divides once, for the winning hit, instead of once per
+/// test; [`LanesHit::barycentrics`] divides. Spheres report `u = v = 0`, `scale = 1`.
 #[derive(Clone, Copy, Debug)]
 pub struct LanesHit<L: Lanes> {
     /// Lanes that hit.
     pub mask: L::Mask,
     /// Ray parameter.
     pub t: L,
-    /// Barycentric weight of `v1` (triangles).
+    /// Numerator of the barycentric weight of `v1`.
     pub u: L,
-    /// Barycentric weight of `v2` (triangles).
+    /// Numerator of the barycentric weight of `v2`.
     pub v: L,
+    /// Common denominator of `u` and `v`.
+    pub scale: L,
 }
 
 impl<L: Lanes> LanesHit<L> {
@@ -46,7 +52,15 @@ impl<L: Lanes> LanesHit<L> {
             t: zero,
             u: zero,
             v: zero,
+            scale: L::splat(1.0),
         }
+    }
+
+    /// The barycentric weights of `v1` and `v2`: `(u/scale, v/scale)`, one correctly rounded
+    /// division each.
+    #[inline(always)]
+    pub fn barycentrics(&self) -> (L, L) {
+        (self.u / self.scale, self.v / self.scale)
     }
 }
 

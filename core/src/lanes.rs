@@ -173,6 +173,10 @@ pub trait Lanes:
         Self::splat(0.0)
     }
 
+    /// `self` with its sign bit flipped where `s`'s sign bit is set (exact: `−self` where `s`
+    /// is negative or −0, `self` elsewhere).
+    fn xor_sign(self, s: Self) -> Self;
+
     /// `a·b − c·d` per lane with an exact sign ([`Scalar::diff_of_products_wide`]), lane by lane:
     /// slow, for rare fallbacks only.
     #[inline]
@@ -297,6 +301,14 @@ macro_rules! impl_scalar_lanes {
                 n >= 1
             }
             #[inline(always)]
+            fn xor_sign(self, s: Self) -> Self {
+                if s.is_sign_negative() {
+                    -self
+                } else {
+                    self
+                }
+            }
+            #[inline(always)]
             fn splat_index(i: u32) -> u32 {
                 i
             }
@@ -401,6 +413,10 @@ macro_rules! impl_wide_lanes {
             fn first_lanes(n: usize) -> Self {
                 let idx = $f::new(core::array::from_fn(|i| i as $t));
                 idx.simd_lt($f::splat(n.min($n) as $t))
+            }
+            #[inline(always)]
+            fn xor_sign(self, s: Self) -> Self {
+                self ^ (s & $f::splat(-0.0))
             }
             #[inline(always)]
             fn splat_index(i: u32) -> $u {

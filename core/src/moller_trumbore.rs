@@ -43,32 +43,41 @@ pub fn intersect<L: Lanes>(ray: &RayLanes<L>, tri: &PackedTriangle) -> LanesHit<
     let det = -ray.dir.dot(ng);
     let u_num = r.dot(e2);
     let v_num = -r.dot(e1);
-    let t_num = s.dot(ng);
 
     // Decide before dividing: flip the numerators by det's sign (exact) and compare them with
-    // |det|, so that 0 ≤ u, 0 ≤ v, u + v ≤ 1, t_min ≤ t ≤ t_max need no division.
-    let flip = det.lt(zero);
+    // |det|, so 0 ≤ u, 0 ≤ v, u + v ≤ 1 need no division. Most tests of most packets end here,
+    // before t is even formed.
     let abs_det = det.abs();
-    let u_s = L::select(flip, -u_num, u_num);
-    let v_s = L::select(flip, -v_num, v_num);
-    let t_s = L::select(flip, -t_num, t_num);
+    let u_s = u_num.xor_sign(det);
+    let v_s = v_num.xor_sign(det);
     let mut mask = ray.active
         & det.ne(zero)
-        & det.is_finite()
+        & abs_det.lt(L::splat(f32::INFINITY))
         & u_s.ge(zero)
         & v_s.ge(zero)
-        & (u_s + v_s).le(abs_det)
-        & t_s.ge(ray.t_min * abs_det)
-        & t_s.le(ray.t_max * abs_det);
+        & (u_s + v_s).le(abs_det);
     if mask.none() {
         return LanesHit::miss(mask);
     }
 
-    // Divide only when some lane is kept. The scaled range test above rounds t_max·|det|, so
-    // the authoritative range and finiteness check is made on the divided t.
+    // The plane distance, range-tested the same way (t_min ≤ t ≤ t_max scaled by |det|).
+    let t_num = s.dot(ng);
+    let t_s = t_num.xor_sign(det);
+    mask = mask & t_s.ge(ray.t_min * abs_det) & t_s.le(ray.t_max * abs_det);
+    if mask.none() {
+        return LanesHit::miss(mask);
+    }
+
+    // Divide only when some lane is kept, and only t: the barycentrics stay numerators over det
+    // until a query has picked its closest hit. The scaled range test above rounds t_max·|det|,
+    // so the authoritative range and finiteness check is made on the divided t.
     let t = t_num / det;
-    let u = u_num / det;
-    let v = v_num / det;
     mask = mask & t_in_range(ray, t);
-    LanesHit { mask, t, u, v }
+    LanesHit {
+        mask,
+        t,
+        u: u_num,
+        v: v_num,
+        scale: det,
+    }
 }

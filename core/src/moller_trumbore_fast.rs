@@ -53,5 +53,11 @@ pub fn intersect<L: FastLanes>(ray: &RayLanes<L>, tri: &PackedTriangle) -> Lanes
     let v = dot(ray.dir, q) * inv;
     let t = dot(e2, q) * inv;
     mask = mask & v.ge(zero) & (u + v).le(one) & t_in_range(ray, t);
-    LanesHit { mask, t, u, v }
+    LanesHit {
+        mask,
+        t,
+        u,
+        v,
+        scale: one,
+    }
 }

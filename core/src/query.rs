@@ -6,7 +6,7 @@ use crate::kernel::{Kernel, NaiveSphere, StableSphere, Standard, Watertight};
 use crate::lanes::{LaneMask, Lanes, Scalar};
 use crate::ray::{Hit, PackedSphere, PackedTriangle, RayLanes, VertexTriangle};
 
-/// Per-lane closest hit over a slice of primitives.
+/// Per-lane closest hit over a slice of primitives (barycentrics already divided).
 #[derive(Clone, Copy, Debug)]
 pub struct ClosestHit<L: Lanes> {
     /// Lanes that hit something.
@@ -50,6 +50,7 @@ pub fn closest_hit<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim])
     let pre = K::prepare(ray);
     let mut ray = *ray;
     let mut best = ClosestHit::miss();
+    let mut scale = L::splat(1.0);
     for (i, prim) in prims.iter().enumerate() {
         let h = K::intersect(&ray, &pre, prim);
         if h.mask.any() {
@@ -58,12 +59,32 @@ pub fn closest_hit<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim])
             best.t = L::select(m, h.t, best.t);
             best.u = L::select(m, h.u, best.u);
             best.v = L::select(m, h.v, best.v);
+            scale = L::select(m, h.scale, scale);
             best.prim = L::select_index(m, L::splat_index(i as u32), best.prim);
             best.mask = best.mask | m;
             ray.t_max = L::select(best.mask, best.t, ray.t_max);
         }
     }
+    // The barycentrics were carried as numerators: one division for the winner.
+    best.u = best.u / scale;
+    best.v = best.v / scale;
     best
+}
+
+/// Closest `t` only, per lane, with kernel `K`: the mask of lanes that hit and their nearest `t`,
+/// without barycentrics or primitive index (no per-hit bookkeeping beyond `t`). Lane by lane,
+/// `mask` and `t` equal those of [`closest_hit`], bit for bit.
+pub fn closest_t<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> (L::Mask, L) {
+    let pre = K::prepare(ray);
+    let mut ray = *ray;
+    let mut found = L::first_lanes(0);
+    for prim in prims {
+        let h = K::intersect(&ray, &pre, prim);
+        // Every reported t is ≤ the shrinking t_max, so the newest hit is never farther.
+        ray.t_max = L::select(h.mask, h.t, ray.t_max);
+        found = found | h.mask;
+    }
+    (found, ray.t_max)
 }
 
 /// Lanes whose ray hits any primitive in `[t_min, t_max]` with kernel `K` (occlusion). Stops as

@@ -40,5 +40,6 @@ pub fn intersect<L: Lanes>(ray: &RayLanes<L>, sphere: &PackedSphere) -> LanesHit
         t: L::select(near_ok, near, far),
         u: zero,
         v: zero,
+        scale: L::splat(1.0),
     }
 }

@@ -213,7 +213,8 @@ pub fn intersect_sheared<L: Lanes>(
     LanesHit {
         mask,
         t,
-        u: v / det,
-        v: w / det,
+        u: v,
+        v: w,
+        scale: det,
     }
 }

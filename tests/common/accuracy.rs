@@ -2,7 +2,7 @@
 //! sets, per-case error margins, and statistics against the exact oracle.
 #![allow(dead_code)]
 
-use super::oracle::{self, SphereTruth, TriangleTruth};
+use super::oracle::{self, SphereTruth};
 use super::Rng;
 use glam::Vec3;
 use octoray::core::kernel::{Fast, NaiveSphere, StableSphere, Standard, Watertight};
@@ -113,15 +113,6 @@ impl TriTier {
             Self::F64Watertight => intersect::<f64, Watertight>(&c.ray, &verts),
         }
     }
-
-    /// The exact answer for what this tier reads.
-    pub fn truth(self, c: &TriCase) -> TriangleTruth {
-        if self.packed() {
-            oracle::triangle_packed(&c.ray, c.v)
-        } else {
-            oracle::triangle(&c.ray, c.v)
-        }
-    }
 }
 
 /// Agreement statistics of one tier on one case set.
@@ -175,18 +166,32 @@ impl Stats {
 
 /// Measures one tier on a case set against the exact oracle.
 pub fn measure_triangles(tier: TriTier, cases: &[TriCase]) -> Stats {
+    measure_triangles_with(|c| tier.run(c), tier.packed(), cases)
+}
+
+/// Measures any ray-triangle test (`run`) against the exact oracle for the packed (v0, e1, e2)
+/// triangle (`packed`) or for the vertices.
+pub fn measure_triangles_with(
+    run: impl Fn(&TriCase) -> Option<Hit>,
+    packed: bool,
+    cases: &[TriCase],
+) -> Stats {
     let mut s = Stats {
         cases: cases.len(),
         ..Stats::default()
     };
     for c in cases {
-        let got = tier.run(c);
+        let got = run(c);
         if let Some(h) = got {
             if !(h.t.is_finite() && h.t >= c.ray.t_min && h.t <= c.ray.t_max) {
                 s.bad_t += 1;
             }
         }
-        let truth = tier.truth(c);
+        let truth = if packed {
+            oracle::triangle_packed(&c.ray, c.v)
+        } else {
+            oracle::triangle(&c.ray, c.v)
+        };
         if truth.degenerate {
             s.degenerate += 1;
             if got.is_some() {

@@ -161,6 +161,28 @@ impl Mesh {
     }
 }
 
+impl Mesh {
+    /// The triangles as vertex triples.
+    pub fn triangles(&self) -> Vec<[Vec3; 3]> {
+        self.tris
+            .iter()
+            .map(|t| t.map(|k| self.verts[k as usize]))
+            .collect()
+    }
+}
+
+/// Rays that hit no triangle under any single ray-triangle test `hit` (brute force, stopping at
+/// the first hit): the crack test for code that is not one of our kernels.
+pub fn escapes_by(
+    rays: &[Ray],
+    tris: &[[Vec3; 3]],
+    hit: impl Fn(&Ray, [Vec3; 3]) -> bool,
+) -> usize {
+    rays.iter()
+        .filter(|r| !tris.iter().any(|&t| hit(r, t)))
+        .count()
+}
+
 /// Rays that hit no triangle of the mesh (8 lanes, any-hit), per tier.
 pub struct Escapes {
     pub standard: usize,
