@@ -8,9 +8,13 @@
 pub use octoray_core as core;
 pub use octoray_packet as packet;
 
-pub use octoray_core::{glam, Hit, PackedSphere, PackedTriangle, Ray, Sphere, Triangle};
+pub use octoray_core::{glam, Hit, Ray};
+#[cfg(feature = "sphere")]
+pub use octoray_core::{PackedSphere, Sphere};
+#[cfg(feature = "triangle")]
+pub use octoray_core::{PackedTriangle, Triangle, VertexTriangle};
 
 /// The README's code blocks, compiled and run as doctests.
-#[cfg(doctest)]
+#[cfg(all(doctest, feature = "triangle"))]
 #[doc = include_str!("../README.md")]
 struct ReadmeDoctests;

@@ -2,6 +2,7 @@
 //! (64·ε·condition, see `TriCase::margin`), no reported t is ever non-finite or out of range, and
 //! the t error stays within each tier's documented bound, measured relative to the problem's own
 //! scale (`TriCase::t_scale`: |Δt| ≤ K·ε·max(|t|, reach)/|cos θ|).
+#![cfg(all(feature = "triangle", feature = "sphere"))]
 mod common;
 
 use common::accuracy::*;

@@ -1,6 +1,7 @@
 //! Bad input gets a defined answer: NaN or infinite components, zero directions, zero-area
 //! triangles, bad radii are misses in every kernel, never a panic, never a non-finite t. Each case
 //! starts from a configuration that hits, so every assertion can fail.
+#![cfg(all(feature = "triangle", feature = "sphere"))]
 mod common;
 
 use common::*;

@@ -5,6 +5,7 @@
 //!
 //! If a deliberate change to a kernel changes its results, update `STORED` with the value this
 //! test prints, and say why in the commit.
+#![cfg(all(feature = "triangle", feature = "sphere"))]
 mod common;
 
 use common::accuracy::{

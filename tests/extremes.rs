@@ -1,6 +1,7 @@
 //! The extremes matrix: each case a named test with an asserted outcome for every tier. No tier
 //! may ever report a non-finite t or one outside [t_min, t_max]; beyond that each test states
 //! what each tier answers (hit with t near the exact value, or a documented miss).
+#![cfg(all(feature = "triangle", feature = "sphere"))]
 mod common;
 
 use common::accuracy::{SphereCase, SphereTier, TriCase, TriTier};

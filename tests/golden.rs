@@ -1,6 +1,7 @@
 //! The seven worked problems of `shared/seed/problems.md`: exact where the sheet's values are
 //! integers, within a stated f32 bound where they are irrational. Intermediates are checked, not
 //! only answers, through the textbook `*_steps` API; the packet kernels must agree.
+#![cfg(all(feature = "triangle", feature = "sphere"))]
 mod common;
 
 use common::*;

@@ -1,6 +1,7 @@
 //! Packet kernels == scalar twins, bit for bit, lane by lane, at widths 4, 8 and 16, on random
 //! and adversarial inputs and on packets of every partial length. Run on the default build and
 //! with `-C target-cpu=native` (see `.ci/run`).
+#![cfg(all(feature = "triangle", feature = "sphere"))]
 mod common;
 
 use common::strategies::*;

@@ -11,6 +11,7 @@
 //! barycentric coordinate in either method is a few ε·|p − a_i|²/|n| from the edge tests plus
 //! ε·|o|/(edge·|cos θ|) from forming p: at most ≈ 1e-4 here. A margin of 1e-3 (ten times that)
 //! on the exact barycentrics therefore separates rounding from geometry.
+#![cfg(all(feature = "triangle", feature = "sphere"))]
 mod common;
 
 use common::Rng;

@@ -2,6 +2,7 @@
 //! centred at 0, 1e2, 1e4 and 1e6, aimed exactly at vertices, at edge points, at interior points
 //! and anywhere. The watertight tier must never let a ray escape; the crack rates of the standard
 //! and fast tiers on the same rays are printed (`-- --nocapture`).
+#![cfg(all(feature = "triangle", feature = "sphere"))]
 mod common;
 
 use common::mesh::{escapes, Mesh};

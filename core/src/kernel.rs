@@ -19,8 +19,14 @@
 //! *coordinates* need more than f32 precision needs f64 primitives, which octoray does not have
 //! yet.
 
-use crate::lanes::{FastLanes, Lanes};
-use crate::ray::{PackedSphere, PackedTriangle, RayLanes, VertexTriangle};
+#[cfg(feature = "triangle")]
+use crate::lanes::FastLanes;
+use crate::lanes::Lanes;
+#[cfg(feature = "sphere")]
+use crate::ray::PackedSphere;
+use crate::ray::RayLanes;
+#[cfg(feature = "triangle")]
+use crate::ray::{PackedTriangle, VertexTriangle};
 
 /// Per-lane result of one ray-primitive test: `mask` marks the lanes that hit; the fields are
 /// meaningful only there.
@@ -77,37 +83,55 @@ pub trait Kernel<L: Lanes> {
 }
 
 /// Standard tier: Möller-Trumbore with delayed division ([`crate::moller_trumbore`]).
+/// `CULL = true` ([`StandardCulled`]) skips back faces: triangles whose normal `e1 × e2` points
+/// along the ray (a counter-clockwise triangle seen from behind).
+#[cfg(feature = "triangle")]
 #[derive(Clone, Copy, Debug, Default)]
-pub struct Standard;
+pub struct Standard<const CULL: bool = false>;
 
-/// Watertight tier: Woop, Benthin & Wald 2013 plus pbrt-v4's δt bound ([`crate::watertight`]).
+/// Standard tier with back-face culling.
+#[cfg(feature = "triangle")]
+pub type StandardCulled = Standard<true>;
+
+/// Watertight tier: Woop, Benthin & Wald 2013 plus a conservative δt bound
+/// ([`crate::watertight`]); `CULL = true` ([`WatertightCulled`]) skips back faces.
+#[cfg(feature = "triangle")]
 #[derive(Clone, Copy, Debug, Default)]
-pub struct Watertight;
+pub struct Watertight<const CULL: bool = false>;
+
+/// Watertight tier with back-face culling.
+#[cfg(feature = "triangle")]
+pub type WatertightCulled = Watertight<true>;
 
 /// Fast tier: Möller-Trumbore with FMA and a refined reciprocal ([`crate::moller_trumbore_fast`]).
+#[cfg(feature = "triangle")]
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Fast;
 
 /// Stable sphere (Ray Tracing Gems ch. 7, [`crate::sphere_stable`]).
+#[cfg(feature = "sphere")]
 #[derive(Clone, Copy, Debug, Default)]
 pub struct StableSphere;
 
 /// Naive textbook sphere quadratic ([`crate::sphere_naive`]), kept so the trade is visible.
+#[cfg(feature = "sphere")]
 #[derive(Clone, Copy, Debug, Default)]
 pub struct NaiveSphere;
 
-impl<L: Lanes> Kernel<L> for Standard {
+#[cfg(feature = "triangle")]
+impl<L: Lanes, const CULL: bool> Kernel<L> for Standard<CULL> {
     type Prim = PackedTriangle;
     type Pre = ();
     #[inline(always)]
     fn prepare(_: &RayLanes<L>) {}
     #[inline(always)]
     fn intersect(ray: &RayLanes<L>, _: &(), prim: &PackedTriangle) -> LanesHit<L> {
-        crate::moller_trumbore::intersect(ray, prim)
+        crate::moller_trumbore::intersect_with::<L, CULL>(ray, prim)
     }
 }
 
-impl<L: Lanes> Kernel<L> for Watertight {
+#[cfg(feature = "triangle")]
+impl<L: Lanes, const CULL: bool> Kernel<L> for Watertight<CULL> {
     type Prim = VertexTriangle;
     type Pre = crate::watertight::ShearedRay<L>;
     #[inline(always)]
@@ -116,10 +140,11 @@ impl<L: Lanes> Kernel<L> for Watertight {
     }
     #[inline(always)]
     fn intersect(ray: &RayLanes<L>, pre: &Self::Pre, prim: &VertexTriangle) -> LanesHit<L> {
-        crate::watertight::intersect_sheared(ray, pre, prim)
+        crate::watertight::intersect_sheared_with::<L, CULL>(ray, pre, prim)
     }
 }
 
+#[cfg(feature = "triangle")]
 impl<L: FastLanes> Kernel<L> for Fast {
     type Prim = PackedTriangle;
     type Pre = ();
@@ -131,6 +156,7 @@ impl<L: FastLanes> Kernel<L> for Fast {
     }
 }
 
+#[cfg(feature = "sphere")]
 impl<L: Lanes> Kernel<L> for StableSphere {
     type Prim = PackedSphere;
     type Pre = ();
@@ -142,6 +168,7 @@ impl<L: Lanes> Kernel<L> for StableSphere {
     }
 }
 
+#[cfg(feature = "sphere")]
 impl<L: Lanes> Kernel<L> for NaiveSphere {
     type Prim = PackedSphere;
     type Pre = ();
@@ -155,6 +182,7 @@ impl<L: Lanes> Kernel<L> for NaiveSphere {
 
 /// The range check every kernel ends with: `t` is a finite f32 value (for f64 lanes: within
 /// `±f32::MAX`, so it stays finite when read out as f32) inside `[t_min, t_max]`.
+#[cfg(any(feature = "triangle", feature = "sphere"))]
 #[inline(always)]
 pub(crate) fn t_in_range<L: Lanes>(ray: &RayLanes<L>, t: L) -> L::Mask {
     t.le(L::splat(f32::MAX)) & t.ge(L::splat(-f32::MAX)) & t.ge(ray.t_min) & t.le(ray.t_max)

@@ -12,7 +12,11 @@
 //!
 //! Every kernel documents its accuracy contract. No `std`, no allocation, no `unsafe`.
 //!
+//! Cargo features: `triangle` and `sphere` (the primitives; a build with one has none of the
+//! other's code) and `alloc` (`Vec`-returning ingest helpers), all on by default.
+//!
 //! ```
+//! # #[cfg(feature = "triangle")] {
 //! use octoray_core::{glam::Vec3, textbook, Ray, Triangle};
 //! let ray = Ray::new(Vec3::new(-4.0, -2.0, -1.0), Vec3::new(1.0, 2.0, 3.0));
 //! let tri = Triangle::new(
@@ -22,28 +26,51 @@
 //! );
 //! let hit = textbook::intersect_triangle(&ray, &tri, textbook::InsideTest::Full).unwrap();
 //! assert_eq!((hit.t, hit.point), (2.0, Vec3::new(-2.0, 2.0, 5.0)));
+//! # }
 //! ```
 #![no_std]
 #![forbid(unsafe_code)]
 
+#[cfg(feature = "alloc")]
+extern crate alloc;
+
+pub mod ingest;
 pub mod kernel;
 pub mod lanes;
+#[cfg(feature = "triangle")]
 pub mod moller_trumbore;
+#[cfg(feature = "triangle")]
 pub mod moller_trumbore_fast;
+#[cfg(feature = "triangle")]
 pub mod offset;
 pub mod query;
 pub mod ray;
+pub mod recommend;
+#[cfg(feature = "sphere")]
 pub mod sphere_naive;
+#[cfg(feature = "sphere")]
 pub mod sphere_stable;
+#[cfg(feature = "triangle")]
+pub mod surface;
 pub mod textbook;
 pub mod vec3;
+#[cfg(feature = "triangle")]
 pub mod watertight;
 
 pub use glam;
-pub use kernel::{Fast, Kernel, LanesHit, NaiveSphere, StableSphere, Standard, Watertight};
+#[cfg(feature = "triangle")]
+pub use kernel::{Fast, Standard, StandardCulled, Watertight, WatertightCulled};
+pub use kernel::{Kernel, LanesHit};
+#[cfg(feature = "sphere")]
+pub use kernel::{NaiveSphere, StableSphere};
 pub use lanes::{FastLanes, LaneMask, Lanes, Scalar};
+#[cfg(feature = "triangle")]
 pub use offset::offset_ray_origin;
-pub use ray::{Hit, PackedSphere, PackedTriangle, Ray, RayLanes, Sphere, Triangle, VertexTriangle};
+pub use ray::{Hit, Ray, RayLanes};
+#[cfg(feature = "sphere")]
+pub use ray::{PackedSphere, Sphere};
+#[cfg(feature = "triangle")]
+pub use ray::{PackedTriangle, Triangle, VertexTriangle};
 pub use vec3::V3;
 
 /// One ray against one primitive with kernel `K` in one lane of `L` (`f32` for the scalar twin,
@@ -62,12 +89,14 @@ pub fn intersect<L: Lanes, K: Kernel<L>>(ray: &Ray, prim: &K::Prim) -> Option<Hi
 
 /// Scalar twin of the packet Möller-Trumbore kernel (standard tier): one ray against one packed
 /// triangle. `prim` is 0. Contract: [`moller_trumbore`].
+#[cfg(feature = "triangle")]
 pub fn intersect_triangle(ray: &Ray, tri: &PackedTriangle) -> Option<Hit> {
     intersect::<f32, Standard>(ray, tri)
 }
 
 /// Scalar twin of the packet sphere kernel (stable): one ray against one packed sphere. `u`, `v`,
 /// `prim` are 0. Contract: [`sphere_stable`].
+#[cfg(feature = "sphere")]
 pub fn intersect_sphere(ray: &Ray, sphere: &PackedSphere) -> Option<Hit> {
     intersect::<f32, StableSphere>(ray, sphere)
 }

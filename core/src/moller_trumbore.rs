@@ -26,9 +26,19 @@ use crate::lanes::{LaneMask, Lanes};
 use crate::ray::{PackedTriangle, RayLanes};
 use crate::vec3::V3;
 
-/// Tests every lane of `ray` against one triangle.
+/// Tests every lane of `ray` against one triangle, two-sided.
 #[inline(always)]
 pub fn intersect<L: Lanes>(ray: &RayLanes<L>, tri: &PackedTriangle) -> LanesHit<L> {
+    intersect_with::<L, false>(ray, tri)
+}
+
+/// Tests every lane of `ray` against one triangle; with `CULL`, back faces (`det ≤ 0`: the
+/// normal `e1 × e2` points along the ray) are misses.
+#[inline(always)]
+pub fn intersect_with<L: Lanes, const CULL: bool>(
+    ray: &RayLanes<L>,
+    tri: &PackedTriangle,
+) -> LanesHit<L> {
     let zero = L::zero();
     let v0 = V3::<L>::splat(tri.v0);
     let e1 = V3::<L>::splat(tri.e1);
@@ -56,6 +66,9 @@ pub fn intersect<L: Lanes>(ray: &RayLanes<L>, tri: &PackedTriangle) -> LanesHit<
         & u_s.ge(zero)
         & v_s.ge(zero)
         & (u_s + v_s).le(abs_det);
+    if CULL {
+        mask = mask & det.gt(zero);
+    }
     if mask.none() {
         return LanesHit::miss(mask);
     }

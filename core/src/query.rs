@@ -2,9 +2,17 @@
 //! (occlusion). `L = f32` gives the scalar twins of the packet queries, with the same selection
 //! rules, so primitive indices agree lane by lane.
 
-use crate::kernel::{Kernel, NaiveSphere, StableSphere, Standard, Watertight};
+use crate::kernel::Kernel;
+#[cfg(feature = "sphere")]
+use crate::kernel::{NaiveSphere, StableSphere};
+#[cfg(feature = "triangle")]
+use crate::kernel::{Standard, Watertight};
 use crate::lanes::{LaneMask, Lanes, Scalar};
-use crate::ray::{Hit, PackedSphere, PackedTriangle, RayLanes, VertexTriangle};
+#[cfg(feature = "sphere")]
+use crate::ray::PackedSphere;
+use crate::ray::{Hit, RayLanes};
+#[cfg(feature = "triangle")]
+use crate::ray::{PackedTriangle, VertexTriangle};
 
 /// Per-lane closest hit over a slice of primitives (barycentrics already divided).
 #[derive(Clone, Copy, Debug)]
@@ -102,16 +110,19 @@ pub fn any_hit<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> 
 }
 
 /// Closest triangle hit per lane, standard tier ([`closest_hit`] with [`Standard`]).
+#[cfg(feature = "triangle")]
 pub fn closest_triangle<L: Lanes>(ray: &RayLanes<L>, tris: &[PackedTriangle]) -> ClosestHit<L> {
     closest_hit::<L, Standard>(ray, tris)
 }
 
 /// Occlusion against triangles, standard tier.
+#[cfg(feature = "triangle")]
 pub fn any_triangle<L: Lanes>(ray: &RayLanes<L>, tris: &[PackedTriangle]) -> L::Mask {
     any_hit::<L, Standard>(ray, tris)
 }
 
 /// Closest triangle hit per lane, watertight tier.
+#[cfg(feature = "triangle")]
 pub fn closest_triangle_watertight<L: Lanes>(
     ray: &RayLanes<L>,
     tris: &[VertexTriangle],
@@ -120,16 +131,19 @@ pub fn closest_triangle_watertight<L: Lanes>(
 }
 
 /// Closest sphere hit per lane, stable sphere ([`closest_hit`] with [`StableSphere`]).
+#[cfg(feature = "sphere")]
 pub fn closest_sphere<L: Lanes>(ray: &RayLanes<L>, spheres: &[PackedSphere]) -> ClosestHit<L> {
     closest_hit::<L, StableSphere>(ray, spheres)
 }
 
 /// Occlusion against spheres, stable sphere.
+#[cfg(feature = "sphere")]
 pub fn any_sphere<L: Lanes>(ray: &RayLanes<L>, spheres: &[PackedSphere]) -> L::Mask {
     any_hit::<L, StableSphere>(ray, spheres)
 }
 
 /// Closest sphere hit per lane, naive sphere.
+#[cfg(feature = "sphere")]
 pub fn closest_sphere_naive<L: Lanes>(
     ray: &RayLanes<L>,
     spheres: &[PackedSphere],

@@ -48,6 +48,7 @@ impl Ray {
 
 /// A triangle given by its three vertices.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg(feature = "triangle")]
 pub struct Triangle {
     /// First vertex (`a1` on the sheet).
     pub v0: Vec3,
@@ -57,6 +58,7 @@ pub struct Triangle {
     pub v2: Vec3,
 }
 
+#[cfg(feature = "triangle")]
 impl Triangle {
     /// A triangle from three vertices.
     pub fn new(v0: Vec3, v1: Vec3, v2: Vec3) -> Self {
@@ -66,6 +68,7 @@ impl Triangle {
 
 /// A sphere given by centre and radius.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg(feature = "sphere")]
 pub struct Sphere {
     /// Centre.
     pub center: Vec3,
@@ -73,6 +76,7 @@ pub struct Sphere {
     pub radius: f32,
 }
 
+#[cfg(feature = "sphere")]
 impl Sphere {
     /// A sphere from centre and radius.
     pub fn new(center: Vec3, radius: f32) -> Self {
@@ -103,6 +107,7 @@ pub struct Hit {
 /// triangle.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+#[cfg(feature = "triangle")]
 pub struct PackedTriangle {
     /// First vertex.
     pub v0: [f32; 3],
@@ -112,6 +117,7 @@ pub struct PackedTriangle {
     pub e2: [f32; 3],
 }
 
+#[cfg(feature = "triangle")]
 impl PackedTriangle {
     /// Packs three vertices.
     pub fn new(v0: Vec3, v1: Vec3, v2: Vec3) -> Self {
@@ -123,6 +129,7 @@ impl PackedTriangle {
     }
 }
 
+#[cfg(feature = "triangle")]
 impl From<Triangle> for PackedTriangle {
     fn from(t: Triangle) -> Self {
         Self::new(t.v0, t.v1, t.v2)
@@ -133,6 +140,7 @@ impl From<Triangle> for PackedTriangle {
 /// reads, because watertightness needs the shared vertices themselves, not rounded edges.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+#[cfg(feature = "triangle")]
 pub struct VertexTriangle {
     /// First vertex.
     pub v0: [f32; 3],
@@ -142,6 +150,7 @@ pub struct VertexTriangle {
     pub v2: [f32; 3],
 }
 
+#[cfg(feature = "triangle")]
 impl VertexTriangle {
     /// Stores three vertices.
     pub fn new(v0: Vec3, v1: Vec3, v2: Vec3) -> Self {
@@ -153,6 +162,7 @@ impl VertexTriangle {
     }
 }
 
+#[cfg(feature = "triangle")]
 impl From<Triangle> for VertexTriangle {
     fn from(t: Triangle) -> Self {
         Self::new(t.v0, t.v1, t.v2)
@@ -163,6 +173,7 @@ impl From<Triangle> for VertexTriangle {
 /// `bytemuck`-castable).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+#[cfg(feature = "sphere")]
 pub struct PackedSphere {
     /// Centre.
     pub center: [f32; 3],
@@ -170,6 +181,7 @@ pub struct PackedSphere {
     pub radius_sq: f32,
 }
 
+#[cfg(feature = "sphere")]
 impl PackedSphere {
     /// Packs a sphere. A radius that is not finite and `> 0`, or whose square overflows, is stored
     /// as `radius_sq = NaN`, which every kernel treats as a miss.
@@ -187,6 +199,7 @@ impl PackedSphere {
     }
 }
 
+#[cfg(feature = "sphere")]
 impl From<Sphere> for PackedSphere {
     fn from(s: Sphere) -> Self {
         Self::new(s.center, s.radius)

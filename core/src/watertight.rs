@@ -129,9 +129,20 @@ pub fn intersect<L: Lanes>(ray: &RayLanes<L>, tri: &VertexTriangle) -> LanesHit<
     intersect_sheared(ray, &ShearedRay::new(ray), tri)
 }
 
-/// Tests every lane of `ray`, sheared by `sh`, against one triangle.
+/// Tests every lane of `ray`, sheared by `sh`, against one triangle, two-sided.
 #[inline(always)]
 pub fn intersect_sheared<L: Lanes>(
+    ray: &RayLanes<L>,
+    sh: &ShearedRay<L>,
+    tri: &VertexTriangle,
+) -> LanesHit<L> {
+    intersect_sheared_with::<L, false>(ray, sh, tri)
+}
+
+/// Tests every lane of `ray`, sheared by `sh`, against one triangle; with `CULL`, back faces
+/// (the normal `(v1 − v0) × (v2 − v0)` points along the ray) are misses.
+#[inline(always)]
+pub fn intersect_sheared_with<L: Lanes, const CULL: bool>(
     ray: &RayLanes<L>,
     sh: &ShearedRay<L>,
     tri: &VertexTriangle,
@@ -165,6 +176,11 @@ pub fn intersect_sheared<L: Lanes>(
     let mixed = (u.lt(zero) | v.lt(zero) | w.lt(zero)) & (u.gt(zero) | v.gt(zero) | w.gt(zero));
     let det = u + v + w;
     let mut mask = ray.active & !mixed & det.ne(zero) & det.is_finite();
+    if CULL {
+        // With kx, ky swapped when d[kz] < 0 the winding seen along the ray is preserved: a front
+        // face (normal against the ray) has det > 0, for every choice of axes (tested).
+        mask = mask & det.gt(zero);
+    }
     if mask.none() {
         return LanesHit::miss(mask);
     }

@@ -12,6 +12,7 @@
 //! `f32x16`; the default x86-64 build runs every width on SSE2 halves.
 //!
 //! ```
+//! # #[cfg(feature = "triangle")] {
 //! use octoray_packet::{closest_triangles, glam::Vec3, PackedTriangle, Ray};
 //! let tris = [PackedTriangle::new(
 //!     Vec3::new(0.0, 6.0, 7.0),
@@ -22,15 +23,17 @@
 //! let mut hits = [None; 3];
 //! closest_triangles::<octoray_packet::f32x8>(&rays, &tris, &mut hits);
 //! assert!(hits.iter().all(|h| h.map(|h| h.t) == Some(2.0)));
+//! # }
 //! ```
 #![no_std]
 #![forbid(unsafe_code)]
 
 pub use octoray_core::query::ClosestHit;
-pub use octoray_core::{
-    glam, moller_trumbore, query, sphere_stable, Hit, LaneMask, Lanes, PackedSphere,
-    PackedTriangle, Ray, Sphere, Triangle,
-};
+pub use octoray_core::{glam, query, Hit, LaneMask, Lanes, Ray};
+#[cfg(feature = "triangle")]
+pub use octoray_core::{moller_trumbore, PackedTriangle, Triangle};
+#[cfg(feature = "sphere")]
+pub use octoray_core::{sphere_stable, PackedSphere, Sphere};
 pub use wide::{f32x16, f32x4, f32x8};
 
 /// `L::LANES` rays in SoA form with an active-lane mask (see [`octoray_core::RayLanes`]).
@@ -49,27 +52,32 @@ pub fn packets<L: Lanes + 'static>(rays: &[Ray]) -> impl Iterator<Item = RayPack
 
 /// Closest triangle packet query: lane by lane equal to
 /// [`octoray_core::query::closest_triangle`] at `L = f32`.
+#[cfg(feature = "triangle")]
 pub fn closest_triangle<L: Lanes>(packet: &RayPacket<L>, tris: &[PackedTriangle]) -> ClosestHit<L> {
     query::closest_triangle(packet, tris)
 }
 
 /// Occlusion packet query against triangles (stops when every active lane is occluded).
+#[cfg(feature = "triangle")]
 pub fn any_triangle<L: Lanes>(packet: &RayPacket<L>, tris: &[PackedTriangle]) -> L::Mask {
     query::any_triangle(packet, tris)
 }
 
 /// Closest sphere packet query.
+#[cfg(feature = "sphere")]
 pub fn closest_sphere<L: Lanes>(packet: &RayPacket<L>, spheres: &[PackedSphere]) -> ClosestHit<L> {
     query::closest_sphere(packet, spheres)
 }
 
 /// Occlusion packet query against spheres.
+#[cfg(feature = "sphere")]
 pub fn any_sphere<L: Lanes>(packet: &RayPacket<L>, spheres: &[PackedSphere]) -> L::Mask {
     query::any_sphere(packet, spheres)
 }
 
 /// Traces `rays` in packets of `L::LANES` and writes each ray's closest triangle hit to `out`
 /// (`out[i]` for `rays[i]`; extra entries of `out` are left alone, missing ones are not written).
+#[cfg(feature = "triangle")]
 pub fn closest_triangles<L: Lanes>(rays: &[Ray], tris: &[PackedTriangle], out: &mut [Option<Hit>]) {
     batch(
         rays,
@@ -80,6 +88,7 @@ pub fn closest_triangles<L: Lanes>(rays: &[Ray], tris: &[PackedTriangle], out: &
 }
 
 /// Traces `rays` in packets and writes each ray's closest sphere hit to `out`.
+#[cfg(feature = "sphere")]
 pub fn closest_spheres<L: Lanes>(rays: &[Ray], spheres: &[PackedSphere], out: &mut [Option<Hit>]) {
     batch(
         rays,
@@ -90,6 +99,7 @@ pub fn closest_spheres<L: Lanes>(rays: &[Ray], spheres: &[PackedSphere], out: &m
 }
 
 /// Traces `rays` in packets and writes whether each is occluded by a triangle to `out`.
+#[cfg(feature = "triangle")]
 pub fn occluded_triangles<L: Lanes>(rays: &[Ray], tris: &[PackedTriangle], out: &mut [bool]) {
     batch(
         rays,
@@ -100,6 +110,7 @@ pub fn occluded_triangles<L: Lanes>(rays: &[Ray], tris: &[PackedTriangle], out: 
 }
 
 /// Traces `rays` in packets and writes whether each is occluded by a sphere to `out`.
+#[cfg(feature = "sphere")]
 pub fn occluded_spheres<L: Lanes>(rays: &[Ray], spheres: &[PackedSphere], out: &mut [bool]) {
     batch(
         rays,
@@ -110,6 +121,7 @@ pub fn occluded_spheres<L: Lanes>(rays: &[Ray], spheres: &[PackedSphere], out: &
 }
 
 /// Runs `query` on each packet of `rays` and scatters lane `i`'s answer (via `lane`) to `out`.
+#[cfg(any(feature = "triangle", feature = "sphere"))]
 fn batch<L: Lanes, R, T>(
     rays: &[Ray],
     out: &mut [T],

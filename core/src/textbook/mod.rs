@@ -5,10 +5,14 @@
 //! returns just the hit. These are the readable reference, not the fast path: use the
 //! [`crate::moller_trumbore`] and [`crate::sphere_stable`] kernels in a renderer.
 
+#[cfg(feature = "sphere")]
 pub mod sphere;
+#[cfg(feature = "triangle")]
 pub mod triangle;
 
+#[cfg(feature = "sphere")]
 pub use sphere::{intersect_sphere, sphere_steps, SphereOutcome, SphereSteps};
+#[cfg(feature = "triangle")]
 pub use triangle::{
     intersect_triangle, triangle_steps, InsideTest, TriangleOutcome, TriangleSteps,
 };

@@ -1,0 +1,108 @@
+//! The tier recommender against the extremes: whatever it picks must pass the extreme case its
+//! scene describes (hit, with the position error within the budget).
+#![cfg(all(feature = "triangle", feature = "sphere"))]
+
+use octoray::core::recommend::{recommend, SceneSpec, TierChoice};
+use octoray::core::{intersect, Standard, Watertight};
+use octoray::glam::Vec3;
+use octoray::{Hit, PackedTriangle, Ray, VertexTriangle};
+
+fn run(tier: TierChoice, ray: &Ray, tri: [Vec3; 3]) -> Option<Hit> {
+    let packed = PackedTriangle::new(tri[0], tri[1], tri[2]);
+    let verts = VertexTriangle::new(tri[0], tri[1], tri[2]);
+    match tier {
+        TierChoice::Standard => intersect::<f32, Standard>(ray, &packed),
+        TierChoice::Watertight => intersect::<f32, Watertight>(ray, &verts),
+        TierChoice::F64 => intersect::<f64, Standard>(ray, &packed),
+    }
+}
+
+/// A right triangle of legs `size` at `offset` and a ray down onto it from `size` above, at the
+/// quarter point: exact t = 1.
+fn case(offset: f32, size: f32) -> (Ray, [Vec3; 3], SceneSpec) {
+    let o = Vec3::splat(offset);
+    let tri = [
+        o,
+        o + Vec3::new(size, 0.0, 0.0),
+        o + Vec3::new(0.0, size, 0.0),
+    ];
+    let ray = Ray::new(
+        o + Vec3::new(size / 4.0, size / 4.0, size),
+        Vec3::new(0.0, 0.0, -size),
+    );
+    let spec = SceneSpec {
+        bounds_min: o,
+        bounds_max: o + Vec3::splat(size),
+        smallest_feature: size,
+        error_budget: size * 1e-3,
+        closed_meshes: false,
+    };
+    (ray, tri, spec)
+}
+
+#[test]
+fn recommendations_pass_their_extreme_case() {
+    let cases = [
+        ("unit scene", case(0.0, 1.0), TierChoice::Standard),
+        ("translated 1e6", case(1e6, 1e3), TierChoice::Standard),
+        (
+            "size 1e13 (standard overflows)",
+            case(0.0, 1e13),
+            TierChoice::Watertight,
+        ),
+        (
+            "size 1e-16 (standard underflows)",
+            case(0.0, 1e-16),
+            TierChoice::Watertight,
+        ),
+        (
+            "size 1e-30 (f32 underflows)",
+            case(0.0, 1e-30),
+            TierChoice::F64,
+        ),
+        (
+            "8-unit features at 1e6 (f32 error too large)",
+            case(1e6, 8.0),
+            TierChoice::F64,
+        ),
+    ];
+    for (name, (ray, tri, spec), want) in cases {
+        let r = recommend(&spec);
+        println!("{name}: {r}");
+        assert_eq!(r.tier, want, "{name}: {r}");
+        assert!(r.meets_budget, "{name}: {r}");
+        let hit = run(r.tier, &ray, tri)
+            .unwrap_or_else(|| panic!("{name}: the recommended tier missed ({r})"));
+        let err = (f64::from(hit.t) - 1.0).abs() * f64::from(ray.dir.length());
+        assert!(
+            err <= f64::from(spec.error_budget),
+            "{name}: error {err:e} over budget"
+        );
+    }
+}
+
+#[test]
+fn closed_meshes_get_the_watertight_tier_and_impossible_budgets_say_so() {
+    let (_, _, mut spec) = case(0.0, 1.0);
+    spec.closed_meshes = true;
+    assert_eq!(recommend(&spec).tier, TierChoice::Watertight);
+    spec.error_budget = 1e-30;
+    let r = recommend(&spec);
+    assert_eq!(r.tier, TierChoice::F64);
+    assert!(!r.meets_budget);
+    assert!(r.to_string().contains("no tier meets the budget"), "{r}");
+}
+
+#[test]
+fn features_lost_to_f32_input_quantization_are_reported_not_promised() {
+    // A 1e-3 triangle at 1e6: the f32 vertices (spacing 1/16 there) collapse; no tier can hit it.
+    let (ray, tri, spec) = case(1e6, 1e-3);
+    let r = recommend(&spec);
+    assert!(!r.meets_budget, "{r}");
+    assert!(r.to_string().contains("translate the scene"), "{r}");
+    assert_eq!(
+        run(r.tier, &ray, tri),
+        None,
+        "the collapsed triangle really is lost"
+    );
+}
