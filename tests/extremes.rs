@@ -7,7 +7,7 @@ mod common;
 use common::accuracy::{SphereCase, SphereTier, TriCase, TriTier};
 use common::{oracle, Rng};
 use glam::Vec3;
-use octoray::core::offset::{offset_ray_origin, triangle_hit_point};
+use octoray::core::offset::{offset_ray_origin, sphere_hit_point, triangle_hit_point};
 use octoray::core::{intersect, Standard, VertexTriangle, Watertight};
 use octoray::{Hit, PackedTriangle, Ray};
 
@@ -409,5 +409,54 @@ fn spawned_rays_do_not_rehit_their_own_surface() {
     assert!(
         naive_rehits > 0,
         "without the offset some rays must re-hit, or this test proves nothing"
+    );
+}
+
+#[test]
+fn spawned_rays_do_not_rehit_their_own_sphere() {
+    let mut rng = Rng(123);
+    let (mut spawned, mut naive_rehits) = (0, 0);
+    for scale in [1.0f32, 1e2, 1e4] {
+        for _ in 0..5000 {
+            let (c, r) = (rng.vec3(scale), rng.range(0.05, 1.0) * scale);
+            let sphere = octoray::PackedSphere::new(c, r);
+            // From far away (the eye at 10 radii and more), so t carries the whole ray's error.
+            let o = c + rng.vec3(1.0).normalize() * (r * rng.range(10.0, 1000.0));
+            let ray = Ray::new(o, c + rng.vec3(r) - o);
+            let Some(hit) = intersect::<f32, octoray::core::StableSphere>(&ray, &sphere) else {
+                continue;
+            };
+            let (p, err) = sphere_hit_point(&ray, hit.t, c, r);
+            let n = (p - c).normalize();
+            let mut w = rng.vec3(1.0);
+            if w.dot(n) < 0.0 {
+                w = -w;
+            }
+            if w.dot(n) < 1e-3 * w.length() {
+                continue;
+            }
+            spawned += 1;
+            naive_rehits += usize::from(
+                intersect::<f32, octoray::core::StableSphere>(&Ray::new(ray.at(hit.t), w), &sphere)
+                    .is_some(),
+            );
+            let spawn = Ray::new(offset_ray_origin(p, err, n, w), w);
+            assert_eq!(
+                intersect::<f32, octoray::core::StableSphere>(&spawn, &sphere),
+                None,
+                "stable re-hit: {spawn:?}"
+            );
+            assert_eq!(
+                intersect::<f32, octoray::core::NaiveSphere>(&spawn, &sphere),
+                None,
+                "naive re-hit: {spawn:?}"
+            );
+        }
+    }
+    println!("{spawned} rays spawned from spheres: 0 re-hits with sphere_hit_point + offset, {naive_rehits} from o + t·d");
+    assert!(spawned > 10_000);
+    assert!(
+        naive_rehits > 0,
+        "without the re-projection and offset some rays must re-hit, or this test proves nothing"
     );
 }

@@ -4,7 +4,9 @@
 use crate::peers;
 use crate::workload::Workload;
 use glam::Vec3A;
-use octoray::core::kernel::{Fast, Kernel, NaiveSphere, StableSphere, Standard, Watertight};
+use octoray::core::kernel::{
+    Fast, Kernel, NaiveSphere, StableSphere, Standard, StandardCulled, Watertight,
+};
 use octoray::core::query::{any_hit, closest_hit, closest_t};
 use octoray::core::textbook::{self, InsideTest};
 use octoray::core::{LaneMask, Lanes, RayLanes, VertexTriangle};
@@ -77,6 +79,25 @@ fn closest<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim]) -> u32 {
                 .count_ones()
         })
         .sum()
+}
+
+/// Closest hit plus, for every hit, the surface data a shader asks for (normal, spawn points).
+fn closest_surface(p: &Prepared) -> u32 {
+    let mut hits = 0;
+    for c in p.w.rays.chunks(8) {
+        let h = closest_hit::<f32x8, Standard>(&RayLanes::load(c), &p.packed);
+        for (i, r) in c.iter().enumerate() {
+            if let Some(hit) = h.lane(i) {
+                let s = octoray::core::surface::packed_triangle_surface(
+                    r,
+                    &p.packed[hit.prim as usize],
+                    &hit,
+                );
+                hits += u32::from(s.normal.dot(r.dir) <= 0.0);
+            }
+        }
+    }
+    hits
 }
 
 fn nearest_t<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim]) -> u32 {
@@ -228,6 +249,20 @@ pub fn entries() -> Vec<Entry> {
         >(
             &p.w.rays, &p.packed
         )),
+        e!(
+            "standard x8 closest+surface",
+            Triangle,
+            Closest,
+            true,
+            closest_surface
+        ),
+        e!(
+            "standard x8 culled",
+            Triangle,
+            Closest,
+            true,
+            |p| closest::<f32x8, StandardCulled>(&p.w.rays, &p.packed)
+        ),
         e!("standard x8 closest-t", Triangle, Closest, true, |p| {
             nearest_t::<f32x8, Standard>(&p.w.rays, &p.packed)
         }),

@@ -41,7 +41,7 @@ pub mod lanes;
 pub mod moller_trumbore;
 #[cfg(feature = "triangle")]
 pub mod moller_trumbore_fast;
-#[cfg(feature = "triangle")]
+#[cfg(any(feature = "triangle", feature = "sphere"))]
 pub mod offset;
 pub mod query;
 pub mod ray;
@@ -64,7 +64,7 @@ pub use kernel::{Kernel, LanesHit};
 #[cfg(feature = "sphere")]
 pub use kernel::{NaiveSphere, StableSphere};
 pub use lanes::{FastLanes, LaneMask, Lanes, Scalar};
-#[cfg(feature = "triangle")]
+#[cfg(any(feature = "triangle", feature = "sphere"))]
 pub use offset::offset_ray_origin;
 pub use ray::{Hit, Ray, RayLanes};
 #[cfg(feature = "sphere")]

@@ -5,6 +5,7 @@
 //! to move the origin along the geometric normal by at least the error bound's projection onto
 //! the normal, to the side the new ray leaves towards, and to round that point away from `p`.
 
+#[cfg(feature = "triangle")]
 use crate::ray::VertexTriangle;
 use glam::Vec3;
 
@@ -12,6 +13,22 @@ use glam::Vec3;
 fn gamma(n: f32) -> f32 {
     let u = f32::EPSILON * 0.5;
     n * u / (1.0 - n * u)
+}
+
+/// The hit point of `ray` at parameter `t` on the sphere (`center`, `radius`), and the error bound
+/// to hand to [`offset_ray_origin`].
+///
+/// `o + t·d` inherits the error of `t`, which scales with the ray's whole length (the eye's
+/// distance) and grows near the silhouette; so the point is re-projected onto the sphere,
+/// `c + r·(p − c)/|p − c|` (as pbrt-v4 does), after which it is off the surface by a few ulps of
+/// `|c| + r` only. The bound returned is `γ8·(|p| + |c| + r)` per component, which also covers the
+/// sphere kernels' rounding of `f·f − r²` for an origin just outside (tested: zero re-hits).
+#[cfg(feature = "sphere")]
+pub fn sphere_hit_point(ray: &crate::ray::Ray, t: f32, center: Vec3, radius: f32) -> (Vec3, Vec3) {
+    let p = ray.at(t);
+    let p = center + (p - center) * (radius / (p - center).length());
+    let err = (p.abs() + center.abs() + Vec3::splat(radius)) * gamma(8.0);
+    (p, err)
 }
 
 /// The point with barycentrics `(u, v)` (weights of `v1`, `v2`) on `tri`, and the componentwise
@@ -24,6 +41,7 @@ fn gamma(n: f32) -> f32 {
 /// rounded to f32 (half an ulp of each edge). The bound returned adds `γ8·(|e1| + |e2|)` to every
 /// component to cover both, so the offset origin lies beyond the surface *as every tier computes
 /// it* (tested: zero re-hits for the standard, watertight and f64 tiers at scales 1 to 1e6).
+#[cfg(feature = "triangle")]
 pub fn triangle_hit_point(tri: &VertexTriangle, u: f32, v: f32) -> (Vec3, Vec3) {
     let (v0, v1, v2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
     let b0 = 1.0 - u - v;

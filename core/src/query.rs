@@ -1,6 +1,44 @@
-//! Queries over slices of primitives, generic over lane width and tier: closest hit and any hit
-//! (occlusion). `L = f32` gives the scalar twins of the packet queries, with the same selection
-//! rules, so primitive indices agree lane by lane.
+//! Queries over slices of primitives, generic over lane width and tier. Each computes only what
+//! is asked:
+//!
+//! | query | answers | cost beyond the kernel |
+//! |---|---|---|
+//! | [`any_hit`] | a lane mask (occlusion, shadow rays) | none; stops when every lane is occluded |
+//! | [`closest_t`] | mask and nearest `t` | one blend per hit |
+//! | [`closest_hit`] | `t`, barycentrics, primitive index | five blends per hit, two divisions per query |
+//! | [`crate::surface`] | normal and spawn points, for the hits you shade | per hit, scalar |
+//!
+//! Back-face culling is a kernel choice ([`crate::kernel::StandardCulled`],
+//! [`crate::kernel::WatertightCulled`]). `L = f32` gives the scalar twins of the packet queries,
+//! with the same selection rules, so primitive indices agree lane by lane; every query agrees
+//! bit for bit with [`closest_hit`] on what they share (tested).
+//!
+//! ```
+//! # #[cfg(feature = "triangle")] {
+//! use octoray_core::glam::Vec3;
+//! use octoray_core::query::{any_hit, closest_hit, closest_t};
+//! use octoray_core::{LaneMask, PackedTriangle, Ray, RayLanes, Standard, StandardCulled};
+//! use wide::f32x8;
+//!
+//! let v = Vec3::new;
+//! // Two parallel triangles facing +z at z = 0 and z = -1.
+//! let tris = [
+//!     PackedTriangle::new(v(0.0, 0.0, -1.0), v(1.0, 0.0, -1.0), v(0.0, 1.0, -1.0)),
+//!     PackedTriangle::new(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.0, 1.0, 0.0)),
+//! ];
+//! let down = RayLanes::<f32x8>::load(&[Ray::new(v(0.2, 0.2, 1.0), v(0.0, 0.0, -1.0)); 8]);
+//! let up = RayLanes::<f32x8>::load(&[Ray::new(v(0.2, 0.2, -2.0), v(0.0, 0.0, 1.0)); 3]);
+//!
+//! assert_eq!(any_hit::<_, Standard>(&down, &tris).bitmask(), 0xff);
+//! let (mask, t) = closest_t::<_, Standard>(&down, &tris);
+//! assert_eq!((mask.bitmask(), t.as_array()[0]), (0xff, 1.0));
+//! let full = closest_hit::<_, Standard>(&down, &tris).lane(0).unwrap();
+//! assert_eq!((full.t, full.prim), (1.0, 1)); // the nearer triangle, index 1
+//! // Seen from below, both are back faces: culled, nothing is hit.
+//! assert_eq!(closest_hit::<_, StandardCulled>(&up, &tris).lane(0), None);
+//! assert!(closest_hit::<_, Standard>(&up, &tris).lane(0).is_some());
+//! # }
+//! ```
 
 use crate::kernel::Kernel;
 #[cfg(feature = "sphere")]

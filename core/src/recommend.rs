@@ -17,6 +17,27 @@
 //! - Closed meshes that must not leak (refraction, inside/outside tests) need the watertight tier
 //!   whatever the budget: the standard tier lets 0.3–1.7 % of edge-aimed rays through.
 
+//!
+//! ```
+//! use octoray_core::glam::Vec3;
+//! use octoray_core::recommend::{recommend, SceneSpec, TierChoice};
+//!
+//! // A room-sized scene near the origin, millimetre features, a 0.1 mm budget.
+//! let room = SceneSpec {
+//!     bounds_min: Vec3::splat(-5.0),
+//!     bounds_max: Vec3::splat(5.0),
+//!     smallest_feature: 1e-3,
+//!     error_budget: 1e-4,
+//!     closed_meshes: false,
+//! };
+//! assert_eq!(recommend(&room).tier, TierChoice::Standard);
+//! // The same room 10 km from the origin: f32 cannot hold 0.1 mm there.
+//! let far = SceneSpec { bounds_min: Vec3::splat(1e4), bounds_max: Vec3::splat(1e4 + 10.0), ..room };
+//! let r = recommend(&far);
+//! assert_eq!(r.tier, TierChoice::F64);
+//! println!("{r}"); // "tier f64: the f32 error bound 9.78e-3 at scale 1.00e4 exceeds ..."
+//! ```
+
 use core::fmt;
 use glam::Vec3;
 

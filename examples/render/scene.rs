@@ -1,0 +1,514 @@
+//! The demo's embedded scene and its packet tracer, shared by `examples/render` and
+//! `tests/render.rs`.
+#![allow(dead_code)]
+
+use octoray::core::ingest;
+use octoray::core::kernel::{Fast, Kernel, StableSphere, Standard, Watertight};
+use octoray::core::offset::offset_ray_origin;
+use octoray::core::query::{any_hit, closest_hit};
+use octoray::core::recommend::{recommend, Recommendation, SceneSpec, TierChoice};
+use octoray::core::{LaneMask, Lanes, RayLanes};
+use octoray::glam::Vec3;
+use octoray::packet::{f32x16, f32x4, f32x8};
+use octoray::{Hit, PackedSphere, PackedTriangle, Ray, VertexTriangle};
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicU64, Ordering};
+use wide::{f64x4, f64x8};
+
+/// Which tier traces the triangles (`auto` asks the recommender).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TierArg {
+    Auto,
+    Standard,
+    Watertight,
+    Fast,
+    F64,
+}
+
+impl TierArg {
+    pub fn parse(s: &str) -> Option<Self> {
+        Some(match s {
+            "auto" => Self::Auto,
+            "standard" => Self::Standard,
+            "watertight" => Self::Watertight,
+            "fast" => Self::Fast,
+            "f64" => Self::F64,
+            _ => return None,
+        })
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Auto => "auto",
+            Self::Standard => "standard",
+            Self::Watertight => "watertight",
+            Self::Fast => "fast",
+            Self::F64 => "f64",
+        }
+    }
+}
+
+/// A scene: triangles (one mesh plus a ground quad) and spheres, each with a colour.
+pub struct Scene {
+    pub tris: Vec<[Vec3; 3]>,
+    pub tri_color: Vec<Vec3>,
+    pub spheres: Vec<(Vec3, f32)>,
+    pub sphere_color: Vec<Vec3>,
+    /// Unit direction towards the sun.
+    pub light: Vec3,
+    pub eye: Vec3,
+    pub target: Vec3,
+    /// Vertical field of view, radians.
+    pub fov: f32,
+    /// Number of triangles of the mesh (the rest is the ground).
+    pub mesh_tris: usize,
+}
+
+/// A deterministic jitter.
+fn hash(i: u32) -> f32 {
+    let mut x = i.wrapping_mul(0x9E37_79B9) ^ 0x85EB_CA6B;
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x2C1B_3C6D);
+    x ^= x >> 12;
+    (x & 0xFFFF) as f32 / 65535.0 - 0.5
+}
+
+/// An icosphere of radius ~1 subdivided `levels` times, radii jittered by ±4 %: positions and
+/// indices, the way a mesh loader hands them over.
+pub fn icosphere(levels: u32) -> (Vec<[f32; 3]>, Vec<u32>) {
+    let t = (1.0 + 5f32.sqrt()) / 2.0;
+    let mut v: Vec<Vec3> = [
+        (-1.0, t, 0.0),
+        (1.0, t, 0.0),
+        (-1.0, -t, 0.0),
+        (1.0, -t, 0.0),
+        (0.0, -1.0, t),
+        (0.0, 1.0, t),
+        (0.0, -1.0, -t),
+        (0.0, 1.0, -t),
+        (t, 0.0, -1.0),
+        (t, 0.0, 1.0),
+        (-t, 0.0, -1.0),
+        (-t, 0.0, 1.0),
+    ]
+    .iter()
+    .map(|&(x, y, z)| Vec3::new(x, y, z).normalize())
+    .collect();
+    let mut f: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..levels {
+        let mut mid = std::collections::HashMap::new();
+        let mut next = Vec::with_capacity(f.len() * 4);
+        for [a, b, c] in f {
+            let mut m = |i: u32, j: u32| {
+                *mid.entry((i.min(j), i.max(j))).or_insert_with(|| {
+                    v.push(((v[i as usize] + v[j as usize]) * 0.5).normalize());
+                    v.len() as u32 - 1
+                })
+            };
+            let (ab, bc, ca) = (m(a, b), m(b, c), m(c, a));
+            next.extend_from_slice(&[[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+        }
+        f = next;
+    }
+    let positions = v
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (*p * (1.0 + 0.08 * hash(i as u32))).to_array())
+        .collect();
+    (positions, f.concat())
+}
+
+impl Scene {
+    /// The embedded default scene: a jittered icosphere on a ground quad with three spheres.
+    pub fn default_scene() -> Self {
+        let (positions, indices) = icosphere(4);
+        Self::with_mesh(&positions, &indices).expect("the embedded mesh is valid")
+    }
+
+    /// The default scene with the icosphere replaced by `positions`/`indices`, fitted into the
+    /// same unit ball at (0, 1, 0).
+    pub fn with_mesh(positions: &[[f32; 3]], indices: &[u32]) -> Result<Self, ingest::IngestError> {
+        // Validate through the library's ingest (bad indices are an error, not a panic).
+        let verts = ingest::pack_vertex_triangles_vec(positions, indices)?;
+        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for p in positions {
+            lo = lo.min(Vec3::from(*p));
+            hi = hi.max(Vec3::from(*p));
+        }
+        let (center, radius) = ((lo + hi) * 0.5, ((hi - lo) * 0.5).length().max(1e-30));
+        let place = |p: [f32; 3]| (Vec3::from(p) - center) / radius + Vec3::new(0.0, 1.0, 0.0);
+        let mut tris: Vec<[Vec3; 3]> = verts
+            .iter()
+            .map(|t| [place(t.v0), place(t.v1), place(t.v2)])
+            .collect();
+        let mesh_tris = tris.len();
+        let mut tri_color = vec![Vec3::new(0.85, 0.55, 0.3); mesh_tris];
+        let g = 6.0;
+        tris.push([
+            Vec3::new(-g, 0.0, -g),
+            Vec3::new(g, 0.0, g),
+            Vec3::new(g, 0.0, -g),
+        ]);
+        tris.push([
+            Vec3::new(-g, 0.0, -g),
+            Vec3::new(-g, 0.0, g),
+            Vec3::new(g, 0.0, g),
+        ]);
+        tri_color.extend([Vec3::new(0.6, 0.62, 0.6); 2]);
+        Ok(Self {
+            tris,
+            tri_color,
+            spheres: vec![
+                (Vec3::new(-2.1, 0.6, 0.6), 0.6),
+                (Vec3::new(2.0, 0.5, -0.4), 0.5),
+                (Vec3::new(0.9, 0.3, 1.9), 0.3),
+            ],
+            sphere_color: vec![
+                Vec3::new(0.3, 0.5, 0.85),
+                Vec3::new(0.35, 0.75, 0.4),
+                Vec3::new(0.85, 0.3, 0.35),
+            ],
+            light: Vec3::new(-0.45, 1.0, 0.35).normalize(),
+            eye: Vec3::new(0.0, 2.4, 6.8),
+            target: Vec3::new(0.0, 0.8, 0.0),
+            fov: 0.75,
+            mesh_tris,
+        })
+    }
+
+    /// The camera ray through the centre of pixel (x, y) of a w×h image.
+    pub fn camera_ray(&self, x: u32, y: u32, w: u32, h: u32) -> Ray {
+        let fwd = (self.target - self.eye).normalize();
+        let right = fwd.cross(Vec3::Y).normalize();
+        let up = right.cross(fwd);
+        let half = (self.fov * 0.5).tan();
+        let aspect = w as f32 / h as f32;
+        let sx = ((x as f32 + 0.5) / w as f32 * 2.0 - 1.0) * half * aspect;
+        let sy = (1.0 - (y as f32 + 0.5) / h as f32 * 2.0) * half;
+        Ray::new(self.eye, fwd + right * sx + up * sy)
+    }
+
+    /// The pixel a point projects to (for tests), if on screen.
+    pub fn project(&self, p: Vec3, w: u32, h: u32) -> Option<(u32, u32)> {
+        let fwd = (self.target - self.eye).normalize();
+        let right = fwd.cross(Vec3::Y).normalize();
+        let up = right.cross(fwd);
+        let d = p - self.eye;
+        let z = d.dot(fwd);
+        let half = (self.fov * 0.5).tan();
+        let aspect = w as f32 / h as f32;
+        let sx = d.dot(right) / z / (half * aspect);
+        let sy = d.dot(up) / z / half;
+        let x = ((sx + 1.0) * 0.5 * w as f32).floor();
+        let y = ((1.0 - sy) * 0.5 * h as f32).floor();
+        (z > 0.0 && x >= 0.0 && y >= 0.0 && x < w as f32 && y < h as f32)
+            .then_some((x as u32, y as u32))
+    }
+
+    /// The recommender's tier for this scene: bounds over the geometry and the camera, the
+    /// smallest edge or radius as the smallest feature, a tenth of a pixel's footprint at the
+    /// target as the budget (at 640 px), closed meshes (the mesh must not leak light).
+    pub fn recommendation(&self) -> Recommendation {
+        let (mut lo, mut hi) = (self.eye, self.eye);
+        let mut smallest = f32::INFINITY;
+        for t in &self.tris {
+            for k in 0..3 {
+                lo = lo.min(t[k]);
+                hi = hi.max(t[k]);
+                smallest = smallest.min((t[(k + 1) % 3] - t[k]).length());
+            }
+        }
+        for &(c, r) in &self.spheres {
+            lo = lo.min(c - r);
+            hi = hi.max(c + r);
+            smallest = smallest.min(r);
+        }
+        let footprint = (self.target - self.eye).length() * (self.fov * 0.5).tan() * 2.0 / 640.0;
+        recommend(&SceneSpec {
+            bounds_min: lo,
+            bounds_max: hi,
+            smallest_feature: smallest,
+            error_budget: footprint * 0.1,
+            closed_meshes: true,
+        })
+    }
+}
+
+/// What a pixel's primary ray found (for tests and the summary).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PixelKind {
+    Sky,
+    Mesh { shadowed: bool },
+    Ground { shadowed: bool },
+    Sphere { index: u32, shadowed: bool },
+}
+
+/// A rendered image.
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub rgb: Vec<u8>,
+    pub kinds: Vec<PixelKind>,
+    pub rays: u64,
+}
+
+/// The primitives in the layouts the kernels read.
+struct Prims {
+    packed: Vec<PackedTriangle>,
+    verts: Vec<VertexTriangle>,
+    spheres: Vec<PackedSphere>,
+}
+
+fn sky(d: Vec3) -> Vec3 {
+    let t = (d.normalize().y * 0.5 + 0.5).clamp(0.0, 1.0);
+    Vec3::new(0.9, 0.93, 0.97) * (1.0 - t) + Vec3::new(0.45, 0.62, 0.9) * t
+}
+
+/// Renders with triangle kernel `K` and the stable sphere kernel at lane width `L`.
+fn render_with<L, K>(
+    scene: &Scene,
+    prims: &Prims,
+    tris: &[K::Prim],
+    w: u32,
+    h: u32,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Image
+where
+    L: Lanes,
+    K: Kernel<L>,
+    K::Prim: Sync,
+    StableSphere: Kernel<L, Prim = PackedSphere>,
+{
+    let rays = AtomicU64::new(0);
+    let rows: Vec<(Vec<u8>, Vec<PixelKind>)> = (0..h)
+        .into_par_iter()
+        .map(|y| {
+            let primary: Vec<Ray> = (0..w).map(|x| scene.camera_ray(x, y, w, h)).collect();
+            // Closest triangle and closest sphere per ray, the nearer wins.
+            let mut hits: Vec<Option<(Hit, bool)>> = Vec::with_capacity(primary.len());
+            for chunk in primary.chunks(L::LANES) {
+                let p = RayLanes::<L>::load(chunk);
+                let ht = closest_hit::<L, K>(&p, tris);
+                let hs = closest_hit::<L, StableSphere>(&p, &prims.spheres);
+                for i in 0..chunk.len() {
+                    hits.push(match (ht.lane(i), hs.lane(i)) {
+                        (Some(a), Some(b)) => Some(if b.t < a.t { (b, true) } else { (a, false) }),
+                        (Some(a), None) => Some((a, false)),
+                        (None, Some(b)) => Some((b, true)),
+                        (None, None) => None,
+                    });
+                }
+            }
+            // Shading points and shadow rays towards the sun, from conservatively offset origins.
+            let mut shade = vec![];
+            let mut shadow = vec![];
+            for (ray, hit) in primary.iter().zip(&hits) {
+                let Some((h, is_sphere)) = *hit else { continue };
+                let (p, mut n, err) = if is_sphere {
+                    let (c, r) = scene.spheres[h.prim as usize];
+                    let (ps, e) = octoray::core::offset::sphere_hit_point(ray, h.t, c, r);
+                    (ps, ps - c, e)
+                } else {
+                    let t = scene.tris[h.prim as usize];
+                    let (pt, e) = octoray::core::offset::triangle_hit_point(
+                        &VertexTriangle::new(t[0], t[1], t[2]),
+                        h.u,
+                        h.v,
+                    );
+                    (pt, (t[1] - t[0]).cross(t[2] - t[0]), e)
+                };
+                n = n.normalize_or_zero();
+                if n.dot(ray.dir) > 0.0 {
+                    n = -n;
+                }
+                shade.push((p, n));
+                shadow.push(Ray::new(
+                    offset_ray_origin(p, err, n, scene.light),
+                    scene.light,
+                ));
+            }
+            let mut lit = Vec::with_capacity(shadow.len());
+            for chunk in shadow.chunks(L::LANES) {
+                let p = RayLanes::<L>::load(chunk);
+                let blocked =
+                    any_hit::<L, K>(&p, tris) | any_hit::<L, StableSphere>(&p, &prims.spheres);
+                let bits = blocked.bitmask();
+                lit.extend((0..chunk.len()).map(|i| (bits >> i) & 1 == 0));
+            }
+            rays.fetch_add((primary.len() + shadow.len()) as u64, Ordering::Relaxed);
+            let (mut rgb, mut kinds) = (
+                Vec::with_capacity(w as usize * 3),
+                Vec::with_capacity(w as usize),
+            );
+            let mut k = 0;
+            for (ray, hit) in primary.iter().zip(&hits) {
+                let (color, kind) = match *hit {
+                    None => (sky(ray.dir), PixelKind::Sky),
+                    Some((h, is_sphere)) => {
+                        let (_, n) = shade[k];
+                        let visible = lit[k];
+                        k += 1;
+                        let albedo = if is_sphere {
+                            scene.sphere_color[h.prim as usize]
+                        } else {
+                            scene.tri_color[h.prim as usize]
+                        };
+                        let diffuse = if visible {
+                            n.dot(scene.light).max(0.0)
+                        } else {
+                            0.0
+                        };
+                        let kind = if is_sphere {
+                            PixelKind::Sphere {
+                                index: h.prim,
+                                shadowed: !visible,
+                            }
+                        } else if (h.prim as usize) < scene.mesh_tris {
+                            PixelKind::Mesh { shadowed: !visible }
+                        } else {
+                            PixelKind::Ground { shadowed: !visible }
+                        };
+                        (albedo * (0.18 + 0.82 * diffuse), kind)
+                    }
+                };
+                rgb.extend(
+                    color
+                        .to_array()
+                        .map(|c| (c.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0 + 0.5) as u8),
+                );
+                kinds.push(kind);
+            }
+            progress(1);
+            (rgb, kinds)
+        })
+        .collect();
+    let (rgb, kinds): (Vec<Vec<u8>>, Vec<Vec<PixelKind>>) = rows.into_iter().unzip();
+    Image {
+        width: w,
+        height: h,
+        rgb: rgb.concat(),
+        kinds: kinds.concat(),
+        rays: rays.into_inner(),
+    }
+}
+
+/// Renders `scene` at `w`×`h` with `tier` (already resolved, not `Auto`) at `lanes` ∈ {4, 8,
+/// 16} (f64: 4 or 8). `progress` is called once per finished row.
+pub fn render(
+    scene: &Scene,
+    tier: TierArg,
+    lanes: u32,
+    w: u32,
+    h: u32,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Image, String> {
+    let prims = Prims {
+        packed: scene
+            .tris
+            .iter()
+            .map(|t| PackedTriangle::new(t[0], t[1], t[2]))
+            .collect(),
+        verts: scene
+            .tris
+            .iter()
+            .map(|t| VertexTriangle::new(t[0], t[1], t[2]))
+            .collect(),
+        spheres: scene
+            .spheres
+            .iter()
+            .map(|&(c, r)| PackedSphere::new(c, r))
+            .collect(),
+    };
+    Ok(match (tier, lanes) {
+        (TierArg::Standard, 4) => {
+            render_with::<f32x4, Standard>(scene, &prims, &prims.packed, w, h, progress)
+        }
+        (TierArg::Standard, 8) => {
+            render_with::<f32x8, Standard>(scene, &prims, &prims.packed, w, h, progress)
+        }
+        (TierArg::Standard, 16) => {
+            render_with::<f32x16, Standard>(scene, &prims, &prims.packed, w, h, progress)
+        }
+        (TierArg::Watertight, 4) => {
+            render_with::<f32x4, Watertight>(scene, &prims, &prims.verts, w, h, progress)
+        }
+        (TierArg::Watertight, 8) => {
+            render_with::<f32x8, Watertight>(scene, &prims, &prims.verts, w, h, progress)
+        }
+        (TierArg::Watertight, 16) => {
+            render_with::<f32x16, Watertight>(scene, &prims, &prims.verts, w, h, progress)
+        }
+        (TierArg::Fast, 4) => {
+            render_with::<f32x4, Fast>(scene, &prims, &prims.packed, w, h, progress)
+        }
+        (TierArg::Fast, 8) => {
+            render_with::<f32x8, Fast>(scene, &prims, &prims.packed, w, h, progress)
+        }
+        (TierArg::Fast, 16) => {
+            render_with::<f32x16, Fast>(scene, &prims, &prims.packed, w, h, progress)
+        }
+        (TierArg::F64, 4) => {
+            render_with::<f64x4, Standard>(scene, &prims, &prims.packed, w, h, progress)
+        }
+        (TierArg::F64, 8) => {
+            render_with::<f64x8, Standard>(scene, &prims, &prims.packed, w, h, progress)
+        }
+        (TierArg::F64, l) => {
+            return Err(format!(
+                "the f64 tier runs 4 or 8 lanes (f64x4, f64x8), not {l}"
+            ))
+        }
+        (TierArg::Auto, _) => return Err("resolve the auto tier first".into()),
+        (_, l) => return Err(format!("lanes must be 4, 8 or 16, not {l}")),
+    })
+}
+
+/// Resolves `auto` through the recommender; the report says why.
+pub fn resolve_tier(scene: &Scene, tier: TierArg) -> (TierArg, String) {
+    match tier {
+        TierArg::Auto => {
+            let r = scene.recommendation();
+            let t = match r.tier {
+                TierChoice::Standard => TierArg::Standard,
+                TierChoice::Watertight => TierArg::Watertight,
+                TierChoice::F64 => TierArg::F64,
+            };
+            (t, format!("chosen by the recommender: {r}"))
+        }
+        t => (t, "chosen on the command line".into()),
+    }
+}
+
+/// Writes an 8-bit RGB PNG.
+pub fn write_png(img: &Image, path: &std::path::Path) -> Result<(), String> {
+    let file = std::fs::File::create(path)
+        .map_err(|e| format!("cannot create {}: {e}", path.display()))?;
+    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), img.width, img.height);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    let mut w = enc
+        .write_header()
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    w.write_image_data(&img.rgb)
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))
+}
