@@ -6,8 +6,7 @@
 mod common;
 
 use common::accuracy::*;
-use common::mesh::{escapes, Mesh};
-use common::Rng;
+use common::mesh::crack_suite;
 use glam::Vec3;
 use octoray::Ray;
 use std::time::Instant;
@@ -47,24 +46,16 @@ fn cracks() {
     println!("Rays aimed exactly at vertices, at edge points, at interior points and anywhere (a quarter each), 12 500 per mesh.\n");
     println!("| mesh | centre | standard | fast (8 lanes) | watertight |");
     println!("|---|---|---|---|---|");
-    for (i, c) in [0.0f32, 1e2, 1e4, 1e6].into_iter().enumerate() {
-        let center = Vec3::new(c, -0.5 * c, 0.25 * c);
-        let mut rng = Rng(1000 + i as u64);
-        let meshes = [
-            ("icosphere", Mesh::icosphere(3, 0.1, 1.0, center, &mut rng)),
-            ("cube grid", Mesh::cube_grid(8, 0.2, 1.0, center, &mut rng)),
-        ];
-        for (name, mesh) in &meshes {
-            let rays = mesh.rays_from_inside(center, 0.1, 12_500, &mut rng);
-            let e = escapes(mesh, &rays);
-            let pct = |k: usize| format!("{k} ({:.3} %)", 100.0 * k as f64 / rays.len() as f64);
-            println!(
-                "| {name} | {c:e} | {} | {} | {} |",
-                pct(e.standard),
-                pct(e.fast),
-                pct(e.watertight)
-            );
-        }
+    for r in crack_suite(12_500) {
+        let pct = |k: usize| format!("{k} ({:.3} %)", 100.0 * k as f64 / r.rays as f64);
+        println!(
+            "| {} | {:e} | {} | {} | {} |",
+            r.mesh,
+            r.center,
+            pct(r.escapes.standard),
+            pct(r.escapes.fast),
+            pct(r.escapes.watertight)
+        );
     }
 }
 

@@ -5,39 +5,28 @@
 #![cfg(all(feature = "triangle", feature = "sphere"))]
 mod common;
 
-use common::mesh::{escapes, Mesh};
-use common::Rng;
-use glam::Vec3;
-
-const CENTRES: [f32; 4] = [0.0, 1e2, 1e4, 1e6];
+use common::mesh::crack_suite;
 
 fn run(rays_per_mesh: usize) -> (usize, usize, usize, usize) {
     let (mut total, mut std, mut wt, mut fast) = (0, 0, 0, 0);
-    for (i, c) in CENTRES.into_iter().enumerate() {
-        let center = Vec3::new(c, -0.5 * c, 0.25 * c);
-        let mut rng = Rng(1000 + i as u64);
-        let meshes = [
-            ("icosphere", Mesh::icosphere(3, 0.1, 1.0, center, &mut rng)),
-            ("cube grid", Mesh::cube_grid(8, 0.2, 1.0, center, &mut rng)),
-        ];
-        for (name, mesh) in &meshes {
-            let rays = mesh.rays_from_inside(center, 0.1, rays_per_mesh, &mut rng);
-            let e = escapes(mesh, &rays);
-            println!(
-                "{name:>9} at {c:>7e}: {} triangles, {} rays: escapes standard {} ({:.3} %), fast {} ({:.3} %), watertight {}",
-                mesh.tris.len(),
-                rays.len(),
-                e.standard,
-                100.0 * e.standard as f64 / rays.len() as f64,
-                e.fast,
-                100.0 * e.fast as f64 / rays.len() as f64,
-                e.watertight
-            );
-            total += rays.len();
-            std += e.standard;
-            wt += e.watertight;
-            fast += e.fast;
-        }
+    for r in crack_suite(rays_per_mesh) {
+        let e = &r.escapes;
+        println!(
+            "{:>9} at {:>7e}: {} triangles, {} rays: escapes standard {} ({:.3} %), fast {} ({:.3} %), watertight {}",
+            r.mesh,
+            r.center,
+            r.triangles,
+            r.rays,
+            e.standard,
+            100.0 * e.standard as f64 / r.rays as f64,
+            e.fast,
+            100.0 * e.fast as f64 / r.rays as f64,
+            e.watertight
+        );
+        total += r.rays;
+        std += e.standard;
+        wt += e.watertight;
+        fast += e.fast;
     }
     (total, std, wt, fast)
 }

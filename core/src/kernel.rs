@@ -118,17 +118,31 @@ pub struct StableSphere;
 #[derive(Clone, Copy, Debug, Default)]
 pub struct NaiveSphere;
 
-#[cfg(feature = "triangle")]
-impl<L: Lanes, const CULL: bool> Kernel<L> for Standard<CULL> {
-    type Prim = PackedTriangle;
-    type Pre = ();
-    #[inline(always)]
-    fn prepare(_: &RayLanes<L>) {}
-    #[inline(always)]
-    fn intersect(ray: &RayLanes<L>, _: &(), prim: &PackedTriangle) -> LanesHit<L> {
-        crate::moller_trumbore::intersect_with::<L, CULL>(ray, prim)
-    }
+/// Implements [`Kernel`] for a kernel with no per-ray precomputation, by its intersect function.
+macro_rules! kernel_without_prepare {
+    ($(#[$cfg:meta])* [$($gen:tt)*] $ty:ty, $prim:ty, $lanes:ident, $f:expr) => {
+        $(#[$cfg])*
+        impl<$($gen)*> Kernel<$lanes> for $ty {
+            type Prim = $prim;
+            type Pre = ();
+            #[inline(always)]
+            fn prepare(_: &RayLanes<$lanes>) {}
+            #[inline(always)]
+            fn intersect(ray: &RayLanes<$lanes>, _: &(), prim: &$prim) -> LanesHit<$lanes> {
+                $f(ray, prim)
+            }
+        }
+    };
 }
+
+kernel_without_prepare!(#[cfg(feature = "triangle")] [L: Lanes, const CULL: bool] Standard<CULL>, PackedTriangle, L,
+    crate::moller_trumbore::intersect_with::<L, CULL>);
+kernel_without_prepare!(#[cfg(feature = "triangle")] [L: FastLanes] Fast, PackedTriangle, L,
+    crate::moller_trumbore_fast::intersect);
+kernel_without_prepare!(#[cfg(feature = "sphere")] [L: Lanes] StableSphere, PackedSphere, L,
+    crate::sphere_stable::intersect);
+kernel_without_prepare!(#[cfg(feature = "sphere")] [L: Lanes] NaiveSphere, PackedSphere, L,
+    crate::sphere_naive::intersect);
 
 #[cfg(feature = "triangle")]
 impl<L: Lanes, const CULL: bool> Kernel<L> for Watertight<CULL> {
@@ -144,39 +158,24 @@ impl<L: Lanes, const CULL: bool> Kernel<L> for Watertight<CULL> {
     }
 }
 
-#[cfg(feature = "triangle")]
-impl<L: FastLanes> Kernel<L> for Fast {
-    type Prim = PackedTriangle;
-    type Pre = ();
-    #[inline(always)]
-    fn prepare(_: &RayLanes<L>) {}
-    #[inline(always)]
-    fn intersect(ray: &RayLanes<L>, _: &(), prim: &PackedTriangle) -> LanesHit<L> {
-        crate::moller_trumbore_fast::intersect(ray, prim)
-    }
-}
-
+/// The sphere kernels' answer from their two roots (`near ≤ far`, or NaN): the nearer root in
+/// range, else the farther (an origin inside the sphere), on the lanes of `mask`.
 #[cfg(feature = "sphere")]
-impl<L: Lanes> Kernel<L> for StableSphere {
-    type Prim = PackedSphere;
-    type Pre = ();
-    #[inline(always)]
-    fn prepare(_: &RayLanes<L>) {}
-    #[inline(always)]
-    fn intersect(ray: &RayLanes<L>, _: &(), prim: &PackedSphere) -> LanesHit<L> {
-        crate::sphere_stable::intersect(ray, prim)
-    }
-}
-
-#[cfg(feature = "sphere")]
-impl<L: Lanes> Kernel<L> for NaiveSphere {
-    type Prim = PackedSphere;
-    type Pre = ();
-    #[inline(always)]
-    fn prepare(_: &RayLanes<L>) {}
-    #[inline(always)]
-    fn intersect(ray: &RayLanes<L>, _: &(), prim: &PackedSphere) -> LanesHit<L> {
-        crate::sphere_naive::intersect(ray, prim)
+#[inline(always)]
+pub(crate) fn nearest_root_in_range<L: Lanes>(
+    ray: &RayLanes<L>,
+    mask: L::Mask,
+    near: L,
+    far: L,
+) -> LanesHit<L> {
+    let near_ok = t_in_range(ray, near);
+    let far_ok = t_in_range(ray, far);
+    LanesHit {
+        mask: mask & (near_ok | far_ok),
+        t: L::select(near_ok, near, far),
+        u: L::zero(),
+        v: L::zero(),
+        scale: L::splat(1.0),
     }
 }
 

@@ -9,7 +9,7 @@
 //!   (measured in the accuracy report at 1e2…1e6 radii) and the near root cancels in `−b + √Δ`.
 //! - Reported hits always have finite `t ∈ [t_min, t_max]`; bad input is a miss.
 
-use crate::kernel::{t_in_range, LanesHit};
+use crate::kernel::{nearest_root_in_range, LanesHit};
 use crate::lanes::{LaneMask, Lanes};
 use crate::ray::{PackedSphere, RayLanes};
 use crate::vec3::V3;
@@ -33,13 +33,5 @@ pub fn intersect<L: Lanes>(ray: &RayLanes<L>, sphere: &PackedSphere) -> LanesHit
     let two_a = L::splat(2.0) * a;
     let near = (-b - sq) / two_a;
     let far = (-b + sq) / two_a;
-    let near_ok = t_in_range(ray, near);
-    let far_ok = t_in_range(ray, far);
-    LanesHit {
-        mask: mask & (near_ok | far_ok),
-        t: L::select(near_ok, near, far),
-        u: zero,
-        v: zero,
-        scale: L::splat(1.0),
-    }
+    nearest_root_in_range(ray, mask, near, far)
 }

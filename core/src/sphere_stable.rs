@@ -19,7 +19,7 @@
 //!   `> 0` (packed as `radius_sq = NaN`), zero or non-finite directions and non-finite inputs
 //!   are misses.
 
-use crate::kernel::{t_in_range, LanesHit};
+use crate::kernel::{nearest_root_in_range, LanesHit};
 use crate::lanes::{LaneMask, Lanes};
 use crate::ray::{PackedSphere, RayLanes};
 use crate::vec3::V3;
@@ -52,13 +52,5 @@ pub fn intersect<L: Lanes>(ray: &RayLanes<L>, sphere: &PackedSphere) -> LanesHit
     let ordered = t0.le(t1);
     let near = L::select(ordered, t0, t1);
     let far = L::select(ordered, t1, t0);
-    let near_ok = t_in_range(ray, near);
-    let far_ok = t_in_range(ray, far);
-    LanesHit {
-        mask: mask & (near_ok | far_ok),
-        t: L::select(near_ok, near, far),
-        u: zero,
-        v: zero,
-        scale: L::splat(1.0),
-    }
+    nearest_root_in_range(ray, mask, near, far)
 }

@@ -10,6 +10,9 @@ use octoray::packet::f32x8;
 use octoray::{PackedTriangle, Ray};
 use std::collections::HashMap;
 
+#[path = "../../examples/render/icosphere.rs"]
+mod icosphere;
+
 /// An indexed triangle mesh.
 pub struct Mesh {
     pub verts: Vec<Vec3>,
@@ -20,61 +23,7 @@ impl Mesh {
     /// An icosphere (subdivided `levels` times) of radius ~1 with each vertex's radius jittered
     /// by ±`jitter`, then scaled by `radius` and moved to `center` (rounded once, shared).
     pub fn icosphere(levels: u32, jitter: f32, radius: f32, center: Vec3, rng: &mut Rng) -> Self {
-        let t = (1.0 + 5f32.sqrt()) / 2.0;
-        let mut verts: Vec<Vec3> = [
-            (-1.0, t, 0.0),
-            (1.0, t, 0.0),
-            (-1.0, -t, 0.0),
-            (1.0, -t, 0.0),
-            (0.0, -1.0, t),
-            (0.0, 1.0, t),
-            (0.0, -1.0, -t),
-            (0.0, 1.0, -t),
-            (t, 0.0, -1.0),
-            (t, 0.0, 1.0),
-            (-t, 0.0, -1.0),
-            (-t, 0.0, 1.0),
-        ]
-        .iter()
-        .map(|&(x, y, z)| Vec3::new(x, y, z).normalize())
-        .collect();
-        let mut tris: Vec<[u32; 3]> = vec![
-            [0, 11, 5],
-            [0, 5, 1],
-            [0, 1, 7],
-            [0, 7, 10],
-            [0, 10, 11],
-            [1, 5, 9],
-            [5, 11, 4],
-            [11, 10, 2],
-            [10, 7, 6],
-            [7, 1, 8],
-            [3, 9, 4],
-            [3, 4, 2],
-            [3, 2, 6],
-            [3, 6, 8],
-            [3, 8, 9],
-            [4, 9, 5],
-            [2, 4, 11],
-            [6, 2, 10],
-            [8, 6, 7],
-            [9, 8, 1],
-        ];
-        for _ in 0..levels {
-            let mut mid: HashMap<(u32, u32), u32> = HashMap::new();
-            let mut next = Vec::with_capacity(tris.len() * 4);
-            for [a, b, c] in tris {
-                let mut m = |i: u32, j: u32| {
-                    *mid.entry((i.min(j), i.max(j))).or_insert_with(|| {
-                        verts.push(((verts[i as usize] + verts[j as usize]) * 0.5).normalize());
-                        verts.len() as u32 - 1
-                    })
-                };
-                let (ab, bc, ca) = (m(a, b), m(b, c), m(c, a));
-                next.extend_from_slice(&[[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
-            }
-            tris = next;
-        }
+        let (verts, tris) = icosphere::icosphere(levels);
         let verts = verts
             .iter()
             .map(|v| center + *v * (radius * (1.0 + rng.range(-jitter, jitter))))
@@ -208,4 +157,39 @@ pub fn escapes(mesh: &Mesh, rays: &[Ray]) -> Escapes {
         watertight: escapes_with::<Watertight>(rays, &verts),
         fast: escapes_with::<Fast>(rays, &packed),
     }
+}
+
+/// One row of the crack suite.
+pub struct CrackRow {
+    pub mesh: &'static str,
+    pub center: f32,
+    pub triangles: usize,
+    pub rays: usize,
+    pub escapes: Escapes,
+}
+
+/// The crack suite of `tests/watertight.rs` and the accuracy report: an icosphere (1280
+/// triangles) and a cube grid (768) centred at 0, 1e2, 1e4 and 1e6, `rays_per_mesh` rays from
+/// inside each.
+pub fn crack_suite(rays_per_mesh: usize) -> Vec<CrackRow> {
+    let mut rows = vec![];
+    for (i, c) in [0.0f32, 1e2, 1e4, 1e6].into_iter().enumerate() {
+        let center = Vec3::new(c, -0.5 * c, 0.25 * c);
+        let mut rng = Rng(1000 + i as u64);
+        let meshes = [
+            ("icosphere", Mesh::icosphere(3, 0.1, 1.0, center, &mut rng)),
+            ("cube grid", Mesh::cube_grid(8, 0.2, 1.0, center, &mut rng)),
+        ];
+        for (name, mesh) in meshes {
+            let rays = mesh.rays_from_inside(center, 0.1, rays_per_mesh, &mut rng);
+            rows.push(CrackRow {
+                mesh: name,
+                center: c,
+                triangles: mesh.tris.len(),
+                rays: rays.len(),
+                escapes: escapes(&mesh, &rays),
+            });
+        }
+    }
+    rows
 }
