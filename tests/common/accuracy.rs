@@ -7,13 +7,23 @@ use super::Rng;
 use glam::Vec3;
 use octoray::core::kernel::{Fast, NaiveSphere, StableSphere, Standard, Watertight};
 use octoray::core::query::closest_hit;
-use octoray::core::textbook::{self, InsideTest};
+use octoray::core::textbook::{self, InsideTest, TextbookHit};
 use octoray::core::{intersect, RayLanes, VertexTriangle};
 use octoray::packet::f32x8;
 use octoray::{Hit, PackedSphere, PackedTriangle, Ray, Sphere, Triangle};
 
 /// f32 unit roundoff.
 pub const EPS: f64 = 1.0 / 16_777_216.0;
+
+/// A textbook hit as a `Hit` (the textbook reports t and the point, no barycentrics).
+fn textbook_hit(h: TextbookHit) -> Hit {
+    Hit {
+        t: h.t,
+        u: 0.0,
+        v: 0.0,
+        prim: 0,
+    }
+}
 
 /// A ray and a triangle.
 #[derive(Clone, Copy, Debug)]
@@ -99,12 +109,7 @@ impl TriTier {
         match self {
             Self::Textbook => {
                 textbook::intersect_triangle(&c.ray, &Triangle::new(a, b, v2), InsideTest::Full)
-                    .map(|h| Hit {
-                        t: h.t,
-                        u: 0.0,
-                        v: 0.0,
-                        prim: 0,
-                    })
+                    .map(textbook_hit)
             }
             Self::Standard => intersect::<f32, Standard>(&c.ray, &packed),
             Self::Watertight => intersect::<f32, Watertight>(&c.ray, &verts),
@@ -354,13 +359,12 @@ impl SphereCase {
     }
 
     /// The scale of t's rounding error: ε·(|f| + r)/|d|, amplified near tangency by
-    /// 1/√(Δ/(a r²)) (the roots' sensitivity to the discriminant).
-    pub fn t_scale(&self, t_exact: f64) -> f64 {
+    /// 1/√(Δ/(a r²)) (the roots' sensitivity to the discriminant; `rel_disc` from the oracle).
+    pub fn t_scale(&self, t_exact: f64, rel_disc: f64) -> f64 {
         let f = (self.ray.origin - self.center).as_dvec3().length();
         let d = self.ray.dir.as_dvec3().length();
-        let truth = oracle::sphere(&self.ray, self.center, self.packed().radius_sq);
         let r = f64::from(self.radius);
-        t_exact.abs().max((f + r) / d) / truth.rel_disc.abs().sqrt().min(1.0)
+        t_exact.abs().max((f + r) / d) / rel_disc.abs().sqrt().min(1.0)
     }
 }
 
@@ -387,12 +391,7 @@ impl SphereTier {
         let p = c.packed();
         match self {
             Self::Textbook => textbook::intersect_sphere(&c.ray, &Sphere::new(c.center, c.radius))
-                .map(|h| Hit {
-                    t: h.t,
-                    u: 0.0,
-                    v: 0.0,
-                    prim: 0,
-                }),
+                .map(textbook_hit),
             Self::Naive => intersect::<f32, NaiveSphere>(&c.ray, &p),
             Self::Stable => intersect::<f32, StableSphere>(&c.ray, &p),
             Self::F64 => intersect::<f64, StableSphere>(&c.ray, &p),
@@ -433,8 +432,9 @@ pub fn measure_spheres(tier: SphereTier, cases: &[SphereCase]) -> Stats {
                 } else {
                     truth.roots[0]
                 };
-                s.scaled
-                    .push((f64::from(h.t) - t_exact).abs() / (EPS * c.t_scale(t_exact)));
+                s.scaled.push(
+                    (f64::from(h.t) - t_exact).abs() / (EPS * c.t_scale(t_exact, truth.rel_disc)),
+                );
             }
         }
         if got.is_some() != hit {

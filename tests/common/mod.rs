@@ -50,11 +50,6 @@ pub fn ordered(x: f32) -> i64 {
     }
 }
 
-/// Distance in f32 ulps between two finite floats.
-pub fn ulp_diff(a: f32, b: f32) -> u64 {
-    (ordered(a) - ordered(b)).unsigned_abs()
-}
-
 /// Distance in f32 ulps between an f32 and an exact value given in f64: the distance from `a`
 /// to the f32 nearest `exact`, plus one half-ulp step when `exact` is not representable.
 pub fn ulp_err(a: f32, exact: f64) -> f64 {

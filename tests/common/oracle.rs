@@ -4,6 +4,7 @@
 //! the f32 values between a kernel's t and the exact t (no rounding in the comparison).
 #![allow(dead_code)]
 
+use super::ordered;
 use glam::Vec3;
 use num_bigint::BigInt;
 use num_traits::{Signed, ToPrimitive, Zero};
@@ -111,16 +112,7 @@ fn ratio_f64(num: &BigInt, den: &BigInt) -> f64 {
     }
 }
 
-/// Monotone integer line of finite f32 (+0 and −0 both 0).
-fn ordered(x: f32) -> i64 {
-    let b = x.to_bits() as i32;
-    if b < 0 {
-        -((b & 0x7fff_ffff) as i64)
-    } else {
-        b as i64
-    }
-}
-
+/// The inverse of [`ordered`] (−0 comes back as +0).
 fn from_ordered(k: i64) -> f32 {
     if k < 0 {
         f32::from_bits(((-k) as u32) | 0x8000_0000)
