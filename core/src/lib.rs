@@ -79,7 +79,7 @@ pub fn intersect<L: Lanes, K: Kernel<L>>(ray: &Ray, prim: &K::Prim) -> Option<Hi
     let r = RayLanes::<L>::single(ray);
     let h = K::intersect(&r, &K::prepare(&r), prim);
     let (u, v) = h.barycentrics();
-    h.mask.bitmask().eq(&1).then(|| Hit {
+    (h.mask.bitmask() & 1 == 1).then(|| Hit {
         t: h.t.lane(0).to_f32(),
         u: u.lane(0).to_f32(),
         v: v.lane(0).to_f32(),

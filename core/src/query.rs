@@ -95,22 +95,23 @@ impl<L: Lanes> ClosestHit<L> {
 pub fn closest_hit<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> ClosestHit<L> {
     let pre = K::prepare(ray);
     let mut ray = *ray;
-    let mut best = ClosestHit::miss();
+    let mut best = ClosestHit::<L>::miss();
     let mut scale = L::splat(1.0);
     for (i, prim) in prims.iter().enumerate() {
         let h = K::intersect(&ray, &pre, prim);
         if h.mask.any() {
-            let nearer: L::Mask = h.t.lt(best.t);
+            // On lanes that have a hit, t_max is the best t so far.
+            let nearer: L::Mask = h.t.lt(ray.t_max);
             let m = h.mask & (!best.mask | nearer);
-            best.t = L::select(m, h.t, best.t);
+            ray.t_max = L::select(m, h.t, ray.t_max);
             best.u = L::select(m, h.u, best.u);
             best.v = L::select(m, h.v, best.v);
             scale = L::select(m, h.scale, scale);
             best.prim = L::select_index(m, L::splat_index(i as u32), best.prim);
             best.mask = best.mask | m;
-            ray.t_max = L::select(best.mask, best.t, ray.t_max);
         }
     }
+    best.t = ray.t_max;
     // The barycentrics were carried as numerators: one division for the winner.
     best.u = best.u / scale;
     best.v = best.v / scale;
