@@ -22,6 +22,7 @@
 #[cfg(feature = "triangle")]
 use crate::lanes::FastLanes;
 use crate::lanes::Lanes;
+use crate::prim::Primitive;
 #[cfg(feature = "sphere")]
 use crate::ray::PackedSphere;
 use crate::ray::RayLanes;
@@ -71,15 +72,29 @@ impl<L: Lanes> LanesHit<L> {
 }
 
 /// A ray-primitive test at lane width `L`.
+///
+/// The body reads the primitive as lanes ([`Primitive::Lanes`]): one primitive broadcast to every
+/// lane ([`Kernel::intersect`], a packet of rays) or one primitive per lane
+/// ([`Kernel::intersect_lanes`] with [`Primitive::gather`], one ray broadcast against a block of
+/// primitives, as BVH leaves are tested). Lane by lane the arithmetic is the same either way.
 pub trait Kernel<L: Lanes> {
     /// The primitive layout the kernel reads.
-    type Prim: Copy;
+    type Prim: Primitive;
     /// Per-ray precomputation, made once per query (for example the watertight shear).
     type Pre: Copy;
     /// Precomputes what depends on the ray only (not on `t_min`/`t_max`).
     fn prepare(ray: &RayLanes<L>) -> Self::Pre;
+    /// Tests lane `i` of `ray` against lane `i` of `prim`.
+    fn intersect_lanes(
+        ray: &RayLanes<L>,
+        pre: &Self::Pre,
+        prim: &<Self::Prim as Primitive>::Lanes<L>,
+    ) -> LanesHit<L>;
     /// Tests every lane of `ray` against one primitive.
-    fn intersect(ray: &RayLanes<L>, pre: &Self::Pre, prim: &Self::Prim) -> LanesHit<L>;
+    #[inline(always)]
+    fn intersect(ray: &RayLanes<L>, pre: &Self::Pre, prim: &Self::Prim) -> LanesHit<L> {
+        Self::intersect_lanes(ray, pre, &prim.splat::<L>())
+    }
 }
 
 /// Standard tier: Möller-Trumbore with delayed division ([`crate::moller_trumbore`]).
@@ -128,7 +143,11 @@ macro_rules! kernel_without_prepare {
             #[inline(always)]
             fn prepare(_: &RayLanes<$lanes>) {}
             #[inline(always)]
-            fn intersect(ray: &RayLanes<$lanes>, _: &(), prim: &$prim) -> LanesHit<$lanes> {
+            fn intersect_lanes(
+                ray: &RayLanes<$lanes>,
+                _: &(),
+                prim: &<$prim as Primitive>::Lanes<$lanes>,
+            ) -> LanesHit<$lanes> {
                 $f(ray, prim)
             }
         }
@@ -138,11 +157,11 @@ macro_rules! kernel_without_prepare {
 kernel_without_prepare!(#[cfg(feature = "triangle")] [L: Lanes, const CULL: bool] Standard<CULL>, PackedTriangle, L,
     crate::moller_trumbore::intersect_with::<L, CULL>);
 kernel_without_prepare!(#[cfg(feature = "triangle")] [L: FastLanes] Fast, PackedTriangle, L,
-    crate::moller_trumbore_fast::intersect);
+    crate::moller_trumbore_fast::intersect_lanes);
 kernel_without_prepare!(#[cfg(feature = "sphere")] [L: Lanes] StableSphere, PackedSphere, L,
-    crate::sphere_stable::intersect);
+    crate::sphere_stable::intersect_lanes);
 kernel_without_prepare!(#[cfg(feature = "sphere")] [L: Lanes] NaiveSphere, PackedSphere, L,
-    crate::sphere_naive::intersect);
+    crate::sphere_naive::intersect_lanes);
 
 #[cfg(feature = "triangle")]
 impl<L: Lanes, const CULL: bool> Kernel<L> for Watertight<CULL> {
@@ -153,7 +172,11 @@ impl<L: Lanes, const CULL: bool> Kernel<L> for Watertight<CULL> {
         crate::watertight::ShearedRay::new(ray)
     }
     #[inline(always)]
-    fn intersect(ray: &RayLanes<L>, pre: &Self::Pre, prim: &VertexTriangle) -> LanesHit<L> {
+    fn intersect_lanes(
+        ray: &RayLanes<L>,
+        pre: &Self::Pre,
+        prim: &crate::prim::VertexLanes<L>,
+    ) -> LanesHit<L> {
         crate::watertight::intersect_sheared_with::<L, CULL>(ray, pre, prim)
     }
 }

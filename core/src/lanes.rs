@@ -45,7 +45,9 @@ impl LaneMask for bool {
 }
 
 /// A lane's element type: `f32` or `f64`.
-pub trait Scalar: Copy + PartialOrd + Debug + Send + Sync + 'static {
+pub trait Scalar:
+    Copy + PartialOrd + Debug + Send + Sync + 'static + core::ops::Div<Output = Self>
+{
     /// Exact widening (or identity) from `f32`.
     fn from_f32(x: f32) -> Self;
     /// Rounds to `f32` (correctly rounded; values beyond `f32::MAX` become infinite).

@@ -34,6 +34,7 @@
 #[cfg(feature = "alloc")]
 extern crate alloc;
 
+pub mod bvh;
 pub mod ingest;
 pub mod kernel;
 pub mod lanes;
@@ -43,6 +44,7 @@ pub mod moller_trumbore;
 pub mod moller_trumbore_fast;
 #[cfg(any(feature = "triangle", feature = "sphere"))]
 pub mod offset;
+pub mod prim;
 pub mod query;
 pub mod ray;
 pub mod recommend;

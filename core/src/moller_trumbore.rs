@@ -23,26 +23,24 @@
 
 use crate::kernel::{t_in_range, LanesHit};
 use crate::lanes::{LaneMask, Lanes};
+use crate::prim::{EdgeLanes, Primitive};
 use crate::ray::{PackedTriangle, RayLanes};
-use crate::vec3::V3;
 
 /// Tests every lane of `ray` against one triangle, two-sided.
 #[inline(always)]
 pub fn intersect<L: Lanes>(ray: &RayLanes<L>, tri: &PackedTriangle) -> LanesHit<L> {
-    intersect_with::<L, false>(ray, tri)
+    intersect_with::<L, false>(ray, &tri.splat())
 }
 
-/// Tests every lane of `ray` against one triangle; with `CULL`, back faces (`det ≤ 0`: the
+/// Tests lane `i` of `ray` against lane `i` of `tri`; with `CULL`, back faces (`det ≤ 0`: the
 /// normal `e1 × e2` points along the ray) are misses.
 #[inline(always)]
 pub fn intersect_with<L: Lanes, const CULL: bool>(
     ray: &RayLanes<L>,
-    tri: &PackedTriangle,
+    tri: &EdgeLanes<L>,
 ) -> LanesHit<L> {
     let zero = L::zero();
-    let v0 = V3::<L>::splat(tri.v0);
-    let e1 = V3::<L>::splat(tri.e1);
-    let e2 = V3::<L>::splat(tri.e2);
+    let (v0, e1, e2) = (tri.v0, tri.e1, tri.e2);
 
     // o + t·d = v0 + u·e1 + v·e2, i.e. [e1 e2 −d]·(u, v, t) = s with s = o − v0. Cramer's rule
     // with det = e1·(d × e2) = −d·Ng, Ng = e1 × e2, and r = s × d gives

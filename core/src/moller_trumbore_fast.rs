@@ -9,11 +9,19 @@
 //! - Not watertight: measured 2–5 % of rays escape closed meshes near the origin.
 //! - Not watertight; hit/miss can differ from the standard tier within rounding of an edge.
 //! - Reported hits always have finite `t ∈ [t_min, t_max]`; bad input is a miss.
+//! - Zero-area triangles, rays within ~1e-6 rad of a triangle's plane (`|det| ≤ 8ε·|e1|₁·|d|₁·
+//!   |e2|₁`, where `det` is rounding noise) and `|det| ≥ 2¹²⁶` (where x86's reciprocal estimate
+//!   is 0) are misses: without that test the 1997 form reports hits on degenerate triangles and
+//!   at `t = ±0` on huge ones.
 
 use crate::kernel::{t_in_range, LanesHit};
 use crate::lanes::{FastLanes, LaneMask};
+use crate::prim::{EdgeLanes, Primitive};
 use crate::ray::{PackedTriangle, RayLanes};
 use crate::vec3::V3;
+
+/// `8ε`: the multiple of `|e1|₁·|d|₁·|e2|₁` below which `det` is rounding noise.
+const DET_NOISE: f32 = 8.0 / 16_777_216.0;
 
 /// `a·b + c·d` with one fused step.
 #[inline(always)]
@@ -34,18 +42,35 @@ fn cross<L: FastLanes>(a: V3<L>, b: V3<L>) -> V3<L> {
 /// Tests every lane of `ray` against one triangle.
 #[inline(always)]
 pub fn intersect<L: FastLanes>(ray: &RayLanes<L>, tri: &PackedTriangle) -> LanesHit<L> {
+    intersect_lanes(ray, &tri.splat())
+}
+
+/// Tests lane `i` of `ray` against lane `i` of `tri`.
+#[inline(always)]
+pub fn intersect_lanes<L: FastLanes>(ray: &RayLanes<L>, tri: &EdgeLanes<L>) -> LanesHit<L> {
     let (zero, one) = (L::zero(), L::splat(1.0));
-    let v0 = V3::<L>::splat(tri.v0);
-    let e1 = V3::<L>::splat(tri.e1);
-    let e2 = V3::<L>::splat(tri.e2);
+    let (v0, e1, e2) = (tri.v0, tri.e1, tri.e2);
     // The 1997 form: p = d × e2, det = e1·p, u = (s·p)/det, q = s × e1, v = (d·q)/det,
     // t = (e2·q)/det, with s = o − v0 and one reciprocal of det.
     let p = cross(ray.dir, e2);
     let det = dot(e1, p);
+    // det is rounding noise when it is below its own error bound, ≲ 2ε·|e1|·|d|·|e2| (L1 norms):
+    // a zero-area triangle or a ray within ~1e-6 rad of its plane. Such lanes are misses, or
+    // noise over noise would report hits anywhere along the ray.
+    let norm1 = |v: V3<L>| v.x.abs() + v.y.abs() + v.z.abs();
+    let det_noise = L::splat(DET_NOISE) * norm1(e1) * (norm1(ray.dir) * norm1(e2));
     let inv = det.recip_refined();
     let s = ray.origin - v0;
     let u = dot(s, p) * inv;
-    let mut mask = ray.active & det.ne(zero) & det.is_finite() & u.ge(zero) & u.le(one);
+    // x86's reciprocal estimate is 0 for |det| ≥ 2¹²⁶ (and inf for subnormal det): both would
+    // turn u, v, t into ±0 or NaN, so they are misses too.
+    let mut mask = ray.active
+        & det.abs().gt(det_noise)
+        & det.is_finite()
+        & inv.is_finite()
+        & inv.ne(zero)
+        & u.ge(zero)
+        & u.le(one);
     if mask.none() {
         return LanesHit::miss(mask);
     }

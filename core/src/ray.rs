@@ -260,3 +260,40 @@ impl<L: Lanes> RayLanes<L> {
         Self::load(core::slice::from_ref(ray))
     }
 }
+
+impl<L: Lanes> RayLanes<L> {
+    /// `ray` in every lane, every lane active: one ray against `L::LANES` primitives at once.
+    pub fn broadcast(ray: &Ray) -> Self {
+        let s = |x: f32| L::splat(x);
+        Self {
+            origin: V3::new(s(ray.origin.x), s(ray.origin.y), s(ray.origin.z)),
+            dir: V3::new(s(ray.dir.x), s(ray.dir.y), s(ray.dir.z)),
+            t_min: s(ray.t_min),
+            t_max: s(ray.t_max),
+            active: L::first_lanes(L::LANES),
+        }
+    }
+
+    /// Lane `i`'s ray in every lane (exact: no rounding, also for f64 lanes), every lane active.
+    pub fn broadcast_lane(&self, i: usize) -> Self {
+        let s = |x: L| L::splat_scalar(x.lane(i));
+        Self {
+            origin: V3::new(s(self.origin.x), s(self.origin.y), s(self.origin.z)),
+            dir: V3::new(s(self.dir.x), s(self.dir.y), s(self.dir.z)),
+            t_min: s(self.t_min),
+            t_max: s(self.t_max),
+            active: L::first_lanes(L::LANES),
+        }
+    }
+
+    /// Lane `i` as a scalar ray (f64 lanes rounded to f32).
+    pub fn ray(&self, i: usize) -> Ray {
+        let f = |x: L| x.lane(i).to_f32();
+        Ray::with_range(
+            Vec3::new(f(self.origin.x), f(self.origin.y), f(self.origin.z)),
+            Vec3::new(f(self.dir.x), f(self.dir.y), f(self.dir.z)),
+            f(self.t_min),
+            f(self.t_max),
+        )
+    }
+}

@@ -11,19 +11,25 @@
 
 use crate::kernel::{nearest_root_in_range, LanesHit};
 use crate::lanes::{LaneMask, Lanes};
+use crate::prim::{Primitive, SphereLanes};
 use crate::ray::{PackedSphere, RayLanes};
-use crate::vec3::V3;
 
 /// Tests every lane of `ray` against one sphere.
 #[inline(always)]
 pub fn intersect<L: Lanes>(ray: &RayLanes<L>, sphere: &PackedSphere) -> LanesHit<L> {
+    intersect_lanes(ray, &sphere.splat())
+}
+
+/// Tests lane `i` of `ray` against lane `i` of `sphere`.
+#[inline(always)]
+pub fn intersect_lanes<L: Lanes>(ray: &RayLanes<L>, sphere: &SphereLanes<L>) -> LanesHit<L> {
     let zero = L::zero();
     let d = ray.dir;
-    let f = ray.origin - V3::splat(sphere.center);
+    let f = ray.origin - sphere.center;
     // a t² + b t + c = 0 with a = d·d, b = 2 f·d, c = f·f − r²; roots (−b ± √(b² − 4ac)) / 2a.
     let a = d.dot(d);
     let b = L::splat(2.0) * f.dot(d);
-    let c = f.dot(f) - L::splat(sphere.radius_sq);
+    let c = f.dot(f) - sphere.radius_sq;
     let disc = b * b - L::splat(4.0) * a * c;
     let mask = ray.active & a.gt(zero) & a.is_finite() & disc.ge(zero);
     if mask.none() {

@@ -21,17 +21,23 @@
 
 use crate::kernel::{nearest_root_in_range, LanesHit};
 use crate::lanes::{LaneMask, Lanes};
+use crate::prim::{Primitive, SphereLanes};
 use crate::ray::{PackedSphere, RayLanes};
-use crate::vec3::V3;
 
 /// Tests every lane of `ray` against one sphere.
 #[inline(always)]
 pub fn intersect<L: Lanes>(ray: &RayLanes<L>, sphere: &PackedSphere) -> LanesHit<L> {
+    intersect_lanes(ray, &sphere.splat())
+}
+
+/// Tests lane `i` of `ray` against lane `i` of `sphere`.
+#[inline(always)]
+pub fn intersect_lanes<L: Lanes>(ray: &RayLanes<L>, sphere: &SphereLanes<L>) -> LanesHit<L> {
     let zero = L::zero();
     let d = ray.dir;
-    let r2 = L::splat(sphere.radius_sq);
+    let r2 = sphere.radius_sq;
     // |f + t·d|² = r² with f = o − c: a t² + 2h t + c = 0, a = d·d, h = f·d, c = f·f − r².
-    let f = ray.origin - V3::splat(sphere.center);
+    let f = ray.origin - sphere.center;
     let a = d.dot(d);
     let h = f.dot(d);
     let c = f.dot(f) - r2;

@@ -30,6 +30,7 @@
 
 use crate::kernel::{t_in_range, LanesHit};
 use crate::lanes::{LaneMask, Lanes, Scalar};
+use crate::prim::{Primitive, VertexLanes};
 use crate::ray::{RayLanes, VertexTriangle};
 use crate::vec3::V3;
 
@@ -136,23 +137,23 @@ pub fn intersect_sheared<L: Lanes>(
     sh: &ShearedRay<L>,
     tri: &VertexTriangle,
 ) -> LanesHit<L> {
-    intersect_sheared_with::<L, false>(ray, sh, tri)
+    intersect_sheared_with::<L, false>(ray, sh, &tri.splat())
 }
 
-/// Tests every lane of `ray`, sheared by `sh`, against one triangle; with `CULL`, back faces
+/// Tests lane `i` of `ray`, sheared by `sh`, against lane `i` of `tri`; with `CULL`, back faces
 /// (the normal `(v1 − v0) × (v2 − v0)` points along the ray) are misses.
 #[inline(always)]
 pub fn intersect_sheared_with<L: Lanes, const CULL: bool>(
     ray: &RayLanes<L>,
     sh: &ShearedRay<L>,
-    tri: &VertexTriangle,
+    tri: &VertexLanes<L>,
 ) -> LanesHit<L> {
     let zero = L::zero();
     // Vertices relative to the origin, permuted so the ray runs along +z, then sheared so it
     // runs along the z axis itself: the hit test becomes a 2D point-in-triangle test at (0, 0).
-    let a = V3::<L>::splat(tri.v0) - ray.origin;
-    let b = V3::<L>::splat(tri.v1) - ray.origin;
-    let c = V3::<L>::splat(tri.v2) - ray.origin;
+    let a = tri.v0 - ray.origin;
+    let b = tri.v1 - ray.origin;
+    let c = tri.v2 - ray.origin;
     let (az, bz, cz) = (sh.kz.pick(a), sh.kz.pick(b), sh.kz.pick(c));
     let ax = sh.kx.pick(a) - sh.sx * az;
     let ay = sh.ky.pick(a) - sh.sy * az;

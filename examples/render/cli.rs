@@ -2,9 +2,10 @@
 #![allow(dead_code)]
 
 use crate::scene::{Scene, TierArg};
+use octoray::glam::Vec3;
 use std::path::PathBuf;
 
-pub const USAGE: &str = "usage: render [--size WxH] [--output PATH] [--tier auto|standard|watertight|fast|f64] [--lanes 4|8|16] [--obj PATH]";
+pub const USAGE: &str = "usage: render [--size WxH] [--output PATH] [--tier auto|standard|watertight|fast|f64] [--lanes 4|8|16] [--obj PATH] [--camera X,Y,Z] [--look-at X,Y,Z] [--fov DEGREES]\n  --obj alone fits the mesh into the default scene; with --camera the mesh stays where it is (no ground quad) and the camera looks from X,Y,Z";
 
 pub struct Options {
     pub width: u32,
@@ -13,6 +14,28 @@ pub struct Options {
     pub tier: TierArg,
     pub lanes: u32,
     pub obj: Option<PathBuf>,
+    /// Camera position; with it, an OBJ mesh is kept in place.
+    pub camera: Option<Vec3>,
+    /// Camera target.
+    pub look_at: Option<Vec3>,
+    /// Vertical field of view, degrees.
+    pub fov: Option<f32>,
+}
+
+/// Parses `X,Y,Z` (finite).
+fn parse_vec3(name: &str, v: &str) -> Result<Vec3, String> {
+    let parts: Vec<&str> = v.split(',').collect();
+    let nums: Vec<f32> = parts
+        .iter()
+        .map(|p| p.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("{name} takes X,Y,Z numbers, not '{v}'"))?;
+    match nums[..] {
+        [x, y, z] if x.is_finite() && y.is_finite() && z.is_finite() => Ok(Vec3::new(x, y, z)),
+        _ => Err(format!(
+            "{name} takes three finite numbers X,Y,Z, not '{v}'"
+        )),
+    }
 }
 
 /// Parses the options; `Err("")` asks for the usage text.
@@ -24,6 +47,9 @@ pub fn parse(args: &[String]) -> Result<Options, String> {
         tier: TierArg::Auto,
         lanes: 8,
         obj: None,
+        camera: None,
+        look_at: None,
+        fov: None,
     };
     let mut it = args.iter();
     while let Some(a) = it.next() {
@@ -60,11 +86,50 @@ pub fn parse(args: &[String]) -> Result<Options, String> {
                 };
             }
             "--obj" => o.obj = Some(value("--obj")?.into()),
+            "--camera" => o.camera = Some(parse_vec3("--camera", &value("--camera")?)?),
+            "--look-at" => o.look_at = Some(parse_vec3("--look-at", &value("--look-at")?)?),
+            "--fov" => {
+                let v = value("--fov")?;
+                let f: f32 = v.parse().map_err(|_| format!("--fov: bad angle '{v}'"))?;
+                if !(f > 0.0 && f < 180.0) {
+                    return Err(format!("--fov: {v} is outside (0, 180) degrees"));
+                }
+                o.fov = Some(f);
+            }
             "-h" | "--help" => return Err(String::new()),
             other => return Err(format!("unknown option '{other}'")),
         }
     }
+    if o.camera.is_some() && o.camera == o.look_at {
+        return Err("--camera and --look-at are the same point".into());
+    }
     Ok(o)
+}
+
+/// The scene the options ask for: the embedded one, or an OBJ mesh (fitted into the default
+/// scene, or kept in place when a camera is given), with the camera options applied.
+pub fn scene_for(o: &Options) -> Result<Scene, String> {
+    let mut s = match &o.obj {
+        Some(path) if o.camera.is_some() => {
+            let (positions, indices) = load_mesh(path)?;
+            Scene::with_mesh_in_place(&positions, &indices)
+                .map_err(|e| format!("{}: {e}", path.display()))?
+        }
+        obj => load_scene(obj)?,
+    };
+    if let Some(c) = o.camera {
+        s.eye = c;
+    }
+    if let Some(t) = o.look_at {
+        s.target = t;
+    }
+    if let Some(f) = o.fov {
+        s.fov = f.to_radians();
+    }
+    if s.eye == s.target {
+        return Err("the camera is at the point it looks at; give --look-at".into());
+    }
+    Ok(s)
 }
 
 /// The embedded scene, or the default scene with the OBJ mesh in place of the icosphere.
@@ -72,6 +137,12 @@ pub fn load_scene(obj: &Option<PathBuf>) -> Result<Scene, String> {
     let Some(path) = obj else {
         return Ok(Scene::default_scene());
     };
+    let (positions, indices) = load_mesh(path)?;
+    Scene::with_mesh(&positions, &indices).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Positions and triangle indices of every model in an OBJ file, merged.
+fn load_mesh(path: &std::path::Path) -> Result<(Vec<[f32; 3]>, Vec<u32>), String> {
     let opts = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
@@ -91,5 +162,5 @@ pub fn load_scene(obj: &Option<PathBuf>) -> Result<Scene, String> {
     if indices.is_empty() {
         return Err(format!("{} has no faces", path.display()));
     }
-    Scene::with_mesh(&positions, &indices).map_err(|e| format!("{}: {e}", path.display()))
+    Ok((positions, indices))
 }

@@ -2,9 +2,12 @@
 //! `tests/render.rs`.
 #![allow(dead_code)]
 
+use octoray::core::bvh::traverse::{closest_hits, occluded};
+use octoray::core::bvh::{BuildStats, Bvh8};
 use octoray::core::ingest;
 use octoray::core::kernel::{Fast, Kernel, StableSphere, Standard, Watertight};
 use octoray::core::offset::offset_ray_origin;
+use octoray::core::prim::Primitive;
 use octoray::core::query::{any_hit, closest_hit};
 use octoray::core::recommend::{recommend, Recommendation, SceneSpec, TierChoice};
 use octoray::core::{LaneMask, Lanes, RayLanes};
@@ -92,6 +95,23 @@ impl Scene {
     pub fn default_scene() -> Self {
         let (positions, indices) = icosphere(4);
         Self::with_mesh(&positions, &indices).expect("the embedded mesh is valid")
+    }
+
+    /// A mesh at its own coordinates (no ground quad), the default scene's spheres and sun,
+    /// and a camera at the mesh's bounding-box centre (set it with `eye`/`target`).
+    pub fn with_mesh_in_place(
+        positions: &[[f32; 3]],
+        indices: &[u32],
+    ) -> Result<Self, ingest::IngestError> {
+        let verts = ingest::pack_vertex_triangles_vec(positions, indices)?;
+        let mut s = Self::default_scene();
+        s.tris = verts
+            .iter()
+            .map(|t| [t.v0.into(), t.v1.into(), t.v2.into()])
+            .collect();
+        s.mesh_tris = s.tris.len();
+        s.tri_color = vec![Vec3::new(0.8, 0.72, 0.6); s.mesh_tris];
+        Ok(s)
     }
 
     /// The default scene with the icosphere replaced by `positions`/`indices`, fitted into the
@@ -219,6 +239,12 @@ pub struct Image {
     pub rgb: Vec<u8>,
     pub kinds: Vec<PixelKind>,
     pub rays: u64,
+    /// Seconds to build the triangles' BVH (one thread).
+    pub build_secs: f64,
+    /// Seconds spent tracing (all threads, wall clock).
+    pub trace_secs: f64,
+    /// The BVH's figures.
+    pub bvh: BuildStats,
 }
 
 /// The primitives in the layouts the kernels read.
@@ -245,9 +271,14 @@ fn render_with<L, K>(
 where
     L: Lanes,
     K: Kernel<L>,
-    K::Prim: Sync,
+    K::Prim: Primitive + Sync,
     StableSphere: Kernel<L, Prim = PackedSphere>,
 {
+    let start = std::time::Instant::now();
+    let tree = Bvh8::build(tris);
+    let build_secs = start.elapsed().as_secs_f64();
+    let bvh = tree.as_ref();
+    let start = std::time::Instant::now();
     let rays = AtomicU64::new(0);
     let rows: Vec<(Vec<u8>, Vec<PixelKind>)> = (0..h)
         .into_par_iter()
@@ -255,12 +286,13 @@ where
             let primary: Vec<Ray> = (0..w).map(|x| scene.camera_ray(x, y, w, h)).collect();
             // Closest triangle and closest sphere per ray, the nearer wins.
             let mut hits: Vec<Option<(Hit, bool)>> = Vec::with_capacity(primary.len());
-            for chunk in primary.chunks(L::LANES) {
+            let mut tri_hits = vec![None; primary.len()];
+            closest_hits::<L, K>(bvh, &primary, &mut tri_hits);
+            for (c, chunk) in primary.chunks(L::LANES).enumerate() {
                 let p = RayLanes::<L>::load(chunk);
-                let ht = closest_hit::<L, K>(&p, tris);
                 let hs = closest_hit::<L, StableSphere>(&p, &prims.spheres);
                 for i in 0..chunk.len() {
-                    hits.push(match (ht.lane(i), hs.lane(i)) {
+                    hits.push(match (tri_hits[c * L::LANES + i], hs.lane(i)) {
                         (Some(a), Some(b)) => Some(if b.t < a.t { (b, true) } else { (a, false) }),
                         (Some(a), None) => Some((a, false)),
                         (None, Some(b)) => Some((b, true)),
@@ -297,12 +329,15 @@ where
                 ));
             }
             let mut lit = Vec::with_capacity(shadow.len());
-            for chunk in shadow.chunks(L::LANES) {
+            let mut blocked_by_tri = vec![false; shadow.len()];
+            occluded::<L, K>(bvh, &shadow, &mut blocked_by_tri);
+            for (c, chunk) in shadow.chunks(L::LANES).enumerate() {
                 let p = RayLanes::<L>::load(chunk);
-                let blocked =
-                    any_hit::<L, K>(&p, tris) | any_hit::<L, StableSphere>(&p, &prims.spheres);
-                let bits = blocked.bitmask();
-                lit.extend((0..chunk.len()).map(|i| (bits >> i) & 1 == 0));
+                let bits = any_hit::<L, StableSphere>(&p, &prims.spheres).bitmask();
+                lit.extend(
+                    (0..chunk.len())
+                        .map(|i| (bits >> i) & 1 == 0 && !blocked_by_tri[c * L::LANES + i]),
+                );
             }
             rays.fetch_add((primary.len() + shadow.len()) as u64, Ordering::Relaxed);
             let (mut rgb, mut kinds) = (
@@ -358,6 +393,9 @@ where
         rgb: rgb.concat(),
         kinds: kinds.concat(),
         rays: rays.into_inner(),
+        build_secs,
+        trace_secs: start.elapsed().as_secs_f64(),
+        bvh: tree.stats(),
     }
 }
 

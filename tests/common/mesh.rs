@@ -172,6 +172,35 @@ pub struct CrackRow {
 /// triangles) and a cube grid (768) centred at 0, 1e2, 1e4 and 1e6, `rays_per_mesh` rays from
 /// inside each.
 pub fn crack_suite(rays_per_mesh: usize) -> Vec<CrackRow> {
+    crack_meshes(rays_per_mesh, |name, c, mesh, rays| CrackRow {
+        mesh: name,
+        center: c,
+        triangles: mesh.tris.len(),
+        rays: rays.len(),
+        escapes: escapes(mesh, rays),
+    })
+}
+
+/// The same meshes and rays, with the escapes counted by `escapes_of(watertight triangles,
+/// rays)`: `(mesh name and centre, rays, escapes)` per mesh.
+pub fn crack_suite_with(
+    rays_per_mesh: usize,
+    escapes_of: impl Fn(&[VertexTriangle], &[Ray]) -> usize,
+) -> Vec<(String, usize, usize)> {
+    crack_meshes(rays_per_mesh, |name, c, mesh, rays| {
+        (
+            format!("{name} at {c:e}"),
+            rays.len(),
+            escapes_of(&mesh.vertex_tris(), rays),
+        )
+    })
+}
+
+/// Runs `row` on each mesh of the crack suite with its rays.
+fn crack_meshes<R>(
+    rays_per_mesh: usize,
+    mut row: impl FnMut(&'static str, f32, &Mesh, &[Ray]) -> R,
+) -> Vec<R> {
     let mut rows = vec![];
     for (i, c) in [0.0f32, 1e2, 1e4, 1e6].into_iter().enumerate() {
         let center = Vec3::new(c, -0.5 * c, 0.25 * c);
@@ -182,13 +211,7 @@ pub fn crack_suite(rays_per_mesh: usize) -> Vec<CrackRow> {
         ];
         for (name, mesh) in meshes {
             let rays = mesh.rays_from_inside(center, 0.1, rays_per_mesh, &mut rng);
-            rows.push(CrackRow {
-                mesh: name,
-                center: c,
-                triangles: mesh.tris.len(),
-                rays: rays.len(),
-                escapes: escapes(&mesh, &rays),
-            });
+            rows.push(row(name, c, &mesh, &rays));
         }
     }
     rows

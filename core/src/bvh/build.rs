@@ -1,0 +1,333 @@
+//! Top-down binned SAH build (Wald 2007, "On fast Construction of SAH-based Bounding Volume
+//! Hierarchies"; 32 bins like Embree), a binary tree collapsed into 8-wide nodes.
+//!
+//! Deterministic: plain f32 arithmetic in a fixed order, no hashing, no threads, ties broken by
+//! primitive index, so the same input gives the same tree bit for bit on every build.
+
+use super::{slab::widen, Bvh8Node, Bvh8Ref, BvhError, MAX_DEPTH, MAX_PRIMS, WIDTH};
+use crate::prim::{Aabb, Primitive};
+use alloc::vec;
+use alloc::vec::Vec;
+
+/// Number of SAH bins per axis.
+const BINS: usize = 32;
+/// Largest leaf.
+const MAX_LEAF: usize = 8;
+/// SAH cost of visiting a node, relative to one primitive test.
+const TRAVERSAL_COST: f32 = 1.0;
+/// Binary depth from which splits are by count (balanced), so the tree stays within
+/// [`MAX_DEPTH`] whatever the input.
+const BALANCED_FROM: usize = MAX_DEPTH - 34;
+
+/// The owned tree: nodes, primitives in leaf order, and their indices in the caller's slice.
+#[derive(Clone, Debug)]
+pub struct Bvh8<P> {
+    nodes: Vec<Bvh8Node>,
+    prims: Vec<P>,
+    ids: Vec<u32>,
+    stats: BuildStats,
+}
+
+/// Figures of a built tree.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BuildStats {
+    /// Primitives in the tree (those with finite bounds).
+    pub prims: usize,
+    /// Primitives left out (a non-finite coordinate: no kernel can hit them).
+    pub skipped: usize,
+    /// Nodes.
+    pub nodes: usize,
+    /// Leaves.
+    pub leaves: usize,
+    /// Depth in nodes (the root is 1).
+    pub depth: usize,
+    /// SAH cost of the 8-wide tree: `Σ area(node)/area(root)·TRAVERSAL_COST + Σ
+    /// area(leaf)/area(root)·count`.
+    pub sah_cost: f32,
+    /// Bytes of nodes + primitives + indices per primitive.
+    pub bytes_per_prim: f32,
+}
+
+struct BinNode {
+    bounds: Aabb,
+    /// Inner: children; leaf: `usize::MAX`, with `start..start + count` in `refs`.
+    left: usize,
+    right: usize,
+    start: usize,
+    count: usize,
+}
+
+impl<P: Primitive> Bvh8<P> {
+    /// Builds the tree over `prims` (their slice indices become the reported primitive indices).
+    ///
+    /// # Panics
+    /// When `prims.len() > MAX_PRIMS` (indices are `u32`): use [`Bvh8::try_build`] to get an error
+    /// instead.
+    pub fn build(prims: &[P]) -> Self {
+        match Self::try_build(prims) {
+            Ok(b) => b,
+            Err(e) => panic!("octoray Bvh8::build: {e}"),
+        }
+    }
+
+    /// Builds the tree, or says why not (too many primitives).
+    pub fn try_build(prims: &[P]) -> Result<Self, BvhError> {
+        if prims.len() > MAX_PRIMS {
+            return Err(BvhError::TooManyPrims(prims.len()));
+        }
+        let mut boxes = Vec::with_capacity(prims.len());
+        let mut refs = Vec::with_capacity(prims.len());
+        for (i, p) in prims.iter().enumerate() {
+            if let Some(b) = p.bounds() {
+                boxes.push(b);
+                refs.push(i as u32);
+            }
+        }
+        let skipped = prims.len() - refs.len();
+        let centers: Vec<[f32; 3]> = boxes.iter().map(Aabb::center).collect();
+        // `refs` holds slice indices; `local[k]` indexes boxes/centers for refs[k].
+        let mut local: Vec<u32> = (0..refs.len() as u32).collect();
+        let mut bin = Vec::new();
+        if !local.is_empty() {
+            split(&mut bin, &boxes, &centers, &mut local, 0, refs.len(), 0);
+        }
+
+        // Collapse into 8-wide nodes, parents before children.
+        let mut nodes = Vec::new();
+        let mut stats = BuildStats {
+            prims: refs.len(),
+            skipped,
+            ..BuildStats::default()
+        };
+        if !bin.is_empty() {
+            let root_area = bin[0].bounds.half_area().max(f32::MIN_POSITIVE);
+            // Work list: (binary node to expand into a wide node, wide node slot to fill, depth).
+            nodes.push(Bvh8Node::EMPTY);
+            let mut work = vec![(0usize, 0usize, 1usize)];
+            stats.sah_cost += TRAVERSAL_COST;
+            while let Some((b, w, depth)) = work.pop() {
+                stats.depth = stats.depth.max(depth);
+                let mut kids: Vec<usize> = if bin[b].left == usize::MAX {
+                    vec![b] // a lone leaf under the root
+                } else {
+                    vec![bin[b].left, bin[b].right]
+                };
+                // Open the inner child with the largest area until the node is full.
+                while kids.len() < WIDTH {
+                    let pick = kids
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, &k)| bin[k].left != usize::MAX)
+                        .max_by(|a, c| {
+                            let (x, y) =
+                                (bin[*a.1].bounds.half_area(), bin[*c.1].bounds.half_area());
+                            // Larger area first; on ties the earlier slot (max_by keeps the last).
+                            x.total_cmp(&y).then(c.0.cmp(&a.0))
+                        })
+                        .map(|(i, _)| i);
+                    let Some(i) = pick else { break };
+                    let k = kids.remove(i);
+                    kids.insert(i, bin[k].right);
+                    kids.insert(i, bin[k].left);
+                }
+                let mut node = Bvh8Node::EMPTY;
+                for (s, &k) in kids.iter().enumerate() {
+                    let (lo, hi) = widen(bin[k].bounds.lo, bin[k].bounds.hi);
+                    for a in 0..3 {
+                        node.lo[a][s] = lo[a];
+                        node.hi[a][s] = hi[a];
+                    }
+                    let area = bin[k].bounds.half_area() / root_area;
+                    if bin[k].left == usize::MAX {
+                        node.child[s] = bin[k].start as u32;
+                        node.count[s] = bin[k].count as u32;
+                        stats.leaves += 1;
+                        stats.sah_cost += area * bin[k].count as f32;
+                    } else {
+                        node.child[s] = nodes.len() as u32;
+                        node.count[s] = 0;
+                        stats.sah_cost += area * TRAVERSAL_COST;
+                        nodes.push(Bvh8Node::EMPTY);
+                        work.push((k, nodes.len() - 1, depth + 1));
+                    }
+                }
+                nodes[w] = node;
+            }
+        }
+        // Depth-first order would suit caches better; children already follow parents, which is
+        // all traversal and validation need.
+        let prims_out: Vec<P> = local
+            .iter()
+            .map(|&l| prims[refs[l as usize] as usize])
+            .collect();
+        let ids: Vec<u32> = local.iter().map(|&l| refs[l as usize]).collect();
+        stats.nodes = nodes.len();
+        let bytes = nodes.len() * core::mem::size_of::<Bvh8Node>()
+            + prims_out.len() * (core::mem::size_of::<P>() + 4);
+        stats.bytes_per_prim = if refs.is_empty() {
+            0.0
+        } else {
+            bytes as f32 / refs.len() as f32
+        };
+        debug_assert!(stats.depth <= MAX_DEPTH);
+        Ok(Self {
+            nodes,
+            prims: prims_out,
+            ids,
+            stats,
+        })
+    }
+
+    /// The tree as borrowed slices, for traversal.
+    pub fn as_ref(&self) -> Bvh8Ref<'_, P> {
+        Bvh8Ref {
+            nodes: &self.nodes,
+            prims: &self.prims,
+            ids: &self.ids,
+        }
+    }
+
+    /// The nodes, root first (`bytemuck::cast_slice` them to bytes to store the tree).
+    pub fn nodes(&self) -> &[Bvh8Node] {
+        &self.nodes
+    }
+
+    /// The primitives in leaf order.
+    pub fn prims(&self) -> &[P] {
+        &self.prims
+    }
+
+    /// `ids()[k]`: the caller's index of `prims()[k]`.
+    pub fn ids(&self) -> &[u32] {
+        &self.ids
+    }
+
+    /// Figures of the tree.
+    pub fn stats(&self) -> BuildStats {
+        self.stats
+    }
+}
+
+/// Builds the binary node for `local[start..end]` and returns its index.
+fn split(
+    out: &mut Vec<BinNode>,
+    boxes: &[Aabb],
+    centers: &[[f32; 3]],
+    local: &mut [u32],
+    start: usize,
+    end: usize,
+    depth: usize,
+) -> usize {
+    let n = end - start;
+    let items = &local[start..end];
+    let bounds = items
+        .iter()
+        .fold(Aabb::EMPTY, |b, &l| b.union(boxes[l as usize]));
+    let cb = items
+        .iter()
+        .fold(Aabb::EMPTY, |b, &l| b.grow(centers[l as usize]));
+    let me = out.len();
+    out.push(BinNode {
+        bounds,
+        left: usize::MAX,
+        right: usize::MAX,
+        start,
+        count: n,
+    });
+    if n == 1 {
+        return me;
+    }
+
+    // Best binned split over the three axes.
+    let leaf_cost = n as f32;
+    let area = bounds.half_area();
+    let mut best: Option<(f32, usize, usize)> = None; // (cost, axis, bins on the left)
+    if depth < BALANCED_FROM {
+        for (axis, (&lo, &hi)) in cb.lo.iter().zip(&cb.hi).enumerate() {
+            // Centres are finite, so hi ≤ lo means a flat axis.
+            if hi <= lo {
+                continue;
+            }
+            let scale = BINS as f32 / (hi - lo);
+            let mut bb = [Aabb::EMPTY; BINS];
+            let mut cnt = [0usize; BINS];
+            for &l in items {
+                let b = bin_of(centers[l as usize][axis], lo, scale);
+                bb[b] = bb[b].union(boxes[l as usize]);
+                cnt[b] += 1;
+            }
+            // Right-to-left sweep of areas·counts, then left to right.
+            let mut right = [0.0f32; BINS];
+            let (mut acc, mut c) = (Aabb::EMPTY, 0usize);
+            for b in (1..BINS).rev() {
+                acc = acc.union(bb[b]);
+                c += cnt[b];
+                right[b] = acc.half_area() * c as f32;
+            }
+            let (mut acc, mut c) = (Aabb::EMPTY, 0usize);
+            for b in 0..BINS - 1 {
+                acc = acc.union(bb[b]);
+                c += cnt[b];
+                if c == 0 || c == n {
+                    continue;
+                }
+                let cost = TRAVERSAL_COST
+                    + (acc.half_area() * c as f32 + right[b + 1]) / area.max(f32::MIN_POSITIVE);
+                if best.is_none_or(|(bc, _, _)| cost < bc) {
+                    best = Some((cost, axis, b + 1));
+                }
+            }
+        }
+    }
+
+    let mid = match best {
+        Some((cost, _, _)) if n <= MAX_LEAF && cost >= leaf_cost => return me,
+        Some((_, axis, nb)) => {
+            let (lo, hi) = (cb.lo[axis], cb.hi[axis]);
+            let scale = BINS as f32 / (hi - lo);
+            partition(&mut local[start..end], |l| {
+                bin_of(centers[l as usize][axis], lo, scale) < nb
+            }) + start
+        }
+        None if n <= MAX_LEAF && depth < BALANCED_FROM => return me,
+        None => {
+            // No SAH split (every centre in one bin) or too deep: split by count along the widest
+            // centre axis, ties by index, so the tree stays balanced.
+            let axis = (0..3)
+                .max_by(|&a, &b| {
+                    (cb.hi[a] - cb.lo[a])
+                        .total_cmp(&(cb.hi[b] - cb.lo[b]))
+                        .then(b.cmp(&a))
+                })
+                .unwrap_or(0);
+            local[start..end].sort_by(|&a, &b| {
+                centers[a as usize][axis]
+                    .total_cmp(&centers[b as usize][axis])
+                    .then(a.cmp(&b))
+            });
+            if n <= MAX_LEAF {
+                return me;
+            }
+            start + n / 2
+        }
+    };
+    let left = split(out, boxes, centers, local, start, mid, depth + 1);
+    let right = split(out, boxes, centers, local, mid, end, depth + 1);
+    out[me].left = left;
+    out[me].right = right;
+    me
+}
+
+#[inline]
+fn bin_of(c: f32, lo: f32, scale: f32) -> usize {
+    (((c - lo) * scale) as usize).min(BINS - 1)
+}
+
+/// Stable partition: the items where `left` holds first; returns their count.
+fn partition(items: &mut [u32], left: impl Fn(u32) -> bool) -> usize {
+    let (l, r): (Vec<u32>, Vec<u32>) = items.iter().partition(|&&x| left(x));
+    let k = l.len();
+    items[..k].copy_from_slice(&l);
+    items[k..].copy_from_slice(&r);
+    k
+}

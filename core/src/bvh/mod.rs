@@ -1,0 +1,233 @@
+//! Scene-scale queries: an 8-wide bounding volume hierarchy over any [`Primitive`] layout.
+//!
+//! - [`Bvh8Node`]: one node, eight children's boxes in SoA (`lo[axis][child]`,
+//!   `hi[axis][child]`, f32) and their references; 256 bytes, `bytemuck::Pod`.
+//! - [`Bvh8`] (feature `alloc`): the owned tree, built by top-down binned SAH ([`Bvh8::build`]).
+//! - [`Bvh8Ref`]: the same tree as three borrowed slices (nodes, primitives in leaf order, their
+//!   indices in the caller's slice). Traversal needs nothing else: no allocator, no `std`. A tree
+//!   built on a host can be written out with `bytemuck` and traversed on a target from
+//!   `&'static` data, after [`Bvh8Ref::new`] has validated it.
+//! - Traversal ([`traverse`]): single rays (one ray against the eight children of a node in one
+//!   `f32x8` box test; leaves tested `L::LANES` primitives at a time) and packets (the packet's
+//!   active mask goes down the tree together; a packet that thins out continues ray by ray),
+//!   generic over the kernel tiers and the query kinds.
+//!
+//! # Contract
+//! The answers equal the brute-force queries of [`crate::query`] over the caller's slice, bit for
+//! bit (hit/miss, `t`, `u`, `v`), with the same tie rule: among hits with equal `t`, the lowest
+//! primitive index wins. That holds because every box test is conservative ([`slab`]): a box is
+//! skipped only when no kernel can report a hit inside it, including hits its rounding places
+//! slightly outside the exact primitive (the boxes carry a slack of 2⁻¹⁷ of the coordinates'
+//! magnitude, ≈ 128 ulp, and the ray's origin adds its own). The one documented exception is a
+//! kernel `t` whose error exceeds that slack along the ray, which the kernels' contracts allow only
+//! for rays within ~1e-5 rad of grazing a primitive whose hit lies near the current `t_max`.
+//!
+//! Primitives with a non-finite coordinate are left out of the tree (no kernel can hit them).
+//! Primitive indices are `u32`, and a tree holds at most [`MAX_PRIMS`] primitives.
+
+#[cfg(feature = "alloc")]
+mod build;
+pub mod slab;
+pub mod traverse;
+
+use crate::prim::Primitive;
+
+/// Children per node.
+pub const WIDTH: usize = 8;
+
+/// Largest number of primitives one tree holds (indices are `u32`; the top bit is reserved).
+pub const MAX_PRIMS: usize = (1 << 31) - 1;
+
+/// Deepest tree the traversal stack serves ([`Bvh8Ref::new`] rejects deeper ones; the builder
+/// never makes one).
+pub const MAX_DEPTH: usize = 64;
+
+/// Traversal stack capacity: a depth-first walk holds at most `WIDTH − 1` siblings per level.
+pub(crate) const STACK: usize = (WIDTH - 1) * MAX_DEPTH + 1;
+
+/// A child slot that holds nothing.
+pub const EMPTY: u32 = u32::MAX;
+
+/// One node: the boxes of up to eight children in SoA, and what each child is.
+///
+/// Slot `i` is empty when `child[i] == EMPTY`; an inner node when `count[i] == 0` (`child[i]` is
+/// its index in the node slice, always greater than this node's); a leaf of `count[i]`
+/// primitives starting at `child[i]` in the leaf-ordered primitive slice otherwise. Used slots
+/// come first. Boxes are already widened by the build slack.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Bvh8Node {
+    /// Lower corners: `lo[axis][slot]`.
+    pub lo: [[f32; WIDTH]; 3],
+    /// Upper corners: `hi[axis][slot]`.
+    pub hi: [[f32; WIDTH]; 3],
+    /// Node index or first primitive, per slot.
+    pub child: [u32; WIDTH],
+    /// 0 for an inner node, else the leaf's primitive count, per slot.
+    pub count: [u32; WIDTH],
+}
+
+impl Bvh8Node {
+    /// A node with every slot empty.
+    pub const EMPTY: Self = Self {
+        lo: [[f32::INFINITY; WIDTH]; 3],
+        hi: [[f32::NEG_INFINITY; WIDTH]; 3],
+        child: [EMPTY; WIDTH],
+        count: [0; WIDTH],
+    };
+
+    /// Number of used slots.
+    #[inline(always)]
+    pub fn len(&self) -> usize {
+        self.child.iter().take_while(|&&c| c != EMPTY).count()
+    }
+
+    /// True when no slot is used.
+    #[inline(always)]
+    pub fn is_empty(&self) -> bool {
+        self.child[0] == EMPTY
+    }
+}
+
+/// Why a set of slices is not a valid tree.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BvhError {
+    /// `prims` and `ids` have different lengths.
+    LengthMismatch {
+        /// Primitives.
+        prims: usize,
+        /// Indices.
+        ids: usize,
+    },
+    /// A slot refers to a node that does not exist or does not come after its parent.
+    BadNodeRef {
+        /// The node holding the slot.
+        node: usize,
+    },
+    /// A leaf's primitive range lies outside the primitive slice.
+    BadLeaf {
+        /// The node holding the slot.
+        node: usize,
+    },
+    /// Deeper than [`MAX_DEPTH`].
+    TooDeep,
+    /// More primitives than [`MAX_PRIMS`].
+    TooManyPrims(usize),
+}
+
+impl core::fmt::Display for BvhError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            BvhError::LengthMismatch { prims, ids } => {
+                write!(f, "{prims} primitives but {ids} indices")
+            }
+            BvhError::BadNodeRef { node } => write!(f, "node {node} refers to a bad child node"),
+            BvhError::BadLeaf { node } => {
+                write!(f, "node {node} has a leaf outside the primitives")
+            }
+            BvhError::TooDeep => write!(f, "tree deeper than {MAX_DEPTH}"),
+            BvhError::TooManyPrims(n) => {
+                write!(f, "{n} primitives; a tree holds at most {MAX_PRIMS}")
+            }
+        }
+    }
+}
+
+impl core::error::Error for BvhError {}
+
+/// A tree as borrowed slices: what traversal reads. `Copy`, no allocation.
+#[derive(Debug)]
+pub struct Bvh8Ref<'a, P> {
+    nodes: &'a [Bvh8Node],
+    prims: &'a [P],
+    ids: &'a [u32],
+}
+
+impl<P> Clone for Bvh8Ref<'_, P> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<P> Copy for Bvh8Ref<'_, P> {}
+
+impl<'a, P: Primitive> Bvh8Ref<'a, P> {
+    /// Validates and wraps a tree's slices: `nodes[0]` is the root (an empty node slice is an
+    /// empty scene), `prims` the primitives in leaf order, `ids[k]` the caller's index of
+    /// `prims[k]`. Every slot is checked (child nodes after their parent, leaves inside `prims`,
+    /// depth ≤ [`MAX_DEPTH`]), so traversal of a validated tree never indexes out of bounds.
+    pub fn new(nodes: &'a [Bvh8Node], prims: &'a [P], ids: &'a [u32]) -> Result<Self, BvhError> {
+        if prims.len() != ids.len() {
+            return Err(BvhError::LengthMismatch {
+                prims: prims.len(),
+                ids: ids.len(),
+            });
+        }
+        if prims.len() > MAX_PRIMS {
+            return Err(BvhError::TooManyPrims(prims.len()));
+        }
+        for (i, n) in nodes.iter().enumerate() {
+            let mut ended = false;
+            for s in 0..WIDTH {
+                let (c, k) = (n.child[s], n.count[s]);
+                if c == EMPTY {
+                    ended = true;
+                    continue;
+                }
+                if ended {
+                    return Err(BvhError::BadNodeRef { node: i });
+                }
+                if k == 0 {
+                    if (c as usize) <= i || (c as usize) >= nodes.len() {
+                        return Err(BvhError::BadNodeRef { node: i });
+                    }
+                } else if (c as usize)
+                    .checked_add(k as usize)
+                    .is_none_or(|e| e > prims.len())
+                {
+                    return Err(BvhError::BadLeaf { node: i });
+                }
+            }
+        }
+        // Depth: a depth-first walk with the traversal's own stack bound.
+        if !nodes.is_empty() {
+            let mut stack = [(0u32, 0u32); STACK];
+            let mut sp = 1;
+            while sp > 0 {
+                sp -= 1;
+                let (n, d) = stack[sp];
+                if d as usize >= MAX_DEPTH {
+                    return Err(BvhError::TooDeep);
+                }
+                let node = &nodes[n as usize];
+                for s in 0..node.len() {
+                    if node.count[s] == 0 {
+                        if sp == STACK {
+                            return Err(BvhError::TooDeep);
+                        }
+                        stack[sp] = (node.child[s], d + 1);
+                        sp += 1;
+                    }
+                }
+            }
+        }
+        Ok(Self { nodes, prims, ids })
+    }
+
+    /// The nodes (root first).
+    pub fn nodes(&self) -> &'a [Bvh8Node] {
+        self.nodes
+    }
+
+    /// The primitives in leaf order.
+    pub fn prims(&self) -> &'a [P] {
+        self.prims
+    }
+
+    /// `ids()[k]`: the caller's index of `prims()[k]`.
+    pub fn ids(&self) -> &'a [u32] {
+        self.ids
+    }
+}
+
+#[cfg(feature = "alloc")]
+pub use build::{BuildStats, Bvh8};

@@ -1,0 +1,535 @@
+//! Traversal of a [`Bvh8Ref`], generic over the kernel tier `K` and the lane width `L`.
+//!
+//! | call | rays | how |
+//! |---|---|---|
+//! | [`closest_hit`], [`any_hit`] | one | one `f32x8` box test per node (its eight children), children visited near-first; leaves tested `L::LANES` primitives at a time ([`Primitive::gather`]) |
+//! | [`closest_hit_packet`], [`closest_t_packet`], [`any_hit_packet`] | `L::LANES` | the packet's active mask goes down the tree together, children visited near-first by the packet's entry distance; when a node is reached by at most a quarter of the lanes (and at most 2), those continue ray by ray (hybrid traversal) |
+//! | [`closest_hits`], [`occluded`] | any slice | packets where a packet's rays share a direction octant (coherent), single rays elsewhere |
+//!
+//! Every answer equals the brute-force query of [`crate::query`] over the caller's slice (see the
+//! [module contract](super)): same hit/miss, same `t`, `u`, `v` bits, same primitive index
+//! (ties in `t` go to the lower index).
+
+use super::slab::{loosen, slab, BoxRay};
+use super::{Bvh8Ref, STACK, WIDTH};
+use crate::kernel::Kernel;
+use crate::lanes::{LaneMask, Lanes, Scalar};
+use crate::prim::Primitive;
+use crate::query::ClosestHit;
+use crate::ray::{Hit, Ray, RayLanes};
+use crate::vec3::V3;
+use wide::f32x8;
+
+/// A stack entry: a child slot's reference (`count == 0`: inner node) and where the ray enters.
+#[derive(Clone, Copy)]
+struct Entry<N> {
+    child: u32,
+    count: u32,
+    near: N,
+}
+
+/// The best hit of one ray so far (barycentric numerators over `scale`, like the kernels').
+#[derive(Clone, Copy, Debug)]
+struct Best<S> {
+    t: S,
+    u: S,
+    v: S,
+    scale: S,
+    id: u32,
+}
+
+impl<S: Scalar> Best<S> {
+    fn hit(&self) -> Hit {
+        Hit {
+            t: self.t.to_f32(),
+            u: (self.u / self.scale).to_f32(),
+            v: (self.v / self.scale).to_f32(),
+            prim: self.id,
+        }
+    }
+}
+
+/// Does a hit at `t` on primitive `id` replace `best`? Nearer `t`, or equal `t` and lower index.
+#[inline(always)]
+fn better<S: Scalar>(t: S, id: u32, best: &Option<Best<S>>) -> bool {
+    match best {
+        None => true,
+        Some(b) => t < b.t || (t == b.t && id < b.id),
+    }
+}
+
+/// The `t` bound of box tests and kernel calls: the ray's `t_max`, or once there is a hit, its
+/// `t` loosened so that a later hit at the same `t` is still seen (the tie rule decides).
+#[inline(always)]
+fn bound<S: Scalar>(t_max: S, best: &Option<Best<S>>) -> S {
+    match best {
+        Some(b) => loosen(b.t),
+        None => t_max,
+    }
+}
+
+/// `t` rounded to f32 and moved up by an ulp: an f32 box bound no smaller than `t`.
+#[inline(always)]
+fn f32_bound<S: Scalar>(t: S) -> f32 {
+    let x = t.to_f32();
+    if x.is_nan() {
+        x
+    } else {
+        x.next_up()
+    }
+}
+
+/// Sorts `n` entries by entry distance, farthest first (so the nearest is popped first).
+#[inline(always)]
+fn sort_far_first<N: Copy>(e: &mut [(f32, Entry<N>)]) {
+    for i in 1..e.len() {
+        let mut j = i;
+        while j > 0 && e[j - 1].0 < e[j].0 {
+            e.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+}
+
+/// One ray (`rl`, broadcast to every lane) from stack entry `start` down. `best` carries the hit
+/// so far in and the final one out. With `ANY`, returns at the first hit (`true`).
+fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    rl: &RayLanes<L>,
+    pre: &K::Pre,
+    br: &BoxRay<f32x8>,
+    start: (u32, u32),
+    best: &mut Option<Best<L::Scalar>>,
+) -> bool {
+    let t_max = rl.t_max.lane(0);
+    let mut stack = [Entry {
+        child: 0,
+        count: 0,
+        near: 0.0f32,
+    }; STACK];
+    stack[0] = Entry {
+        child: start.0,
+        count: start.1,
+        near: f32::NEG_INFINITY,
+    };
+    let mut sp = 1;
+    let mut ray = *rl;
+    let mut cull = f32_bound(bound(t_max, best));
+    while sp > 0 {
+        sp -= 1;
+        let e = stack[sp];
+        if e.near > cull {
+            continue;
+        }
+        if e.count > 0 {
+            let first = e.child as usize;
+            let prims = &bvh.prims[first..first + e.count as usize];
+            for (c, chunk) in prims.chunks(L::LANES).enumerate() {
+                ray.active = L::first_lanes(chunk.len());
+                ray.t_max = L::splat_scalar(bound(t_max, best));
+                let h = K::intersect_lanes(&ray, pre, &<K::Prim as Primitive>::gather(chunk));
+                let mut bits = h.mask.bitmask();
+                if ANY && bits != 0 {
+                    return true;
+                }
+                while bits != 0 {
+                    let i = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    let t = h.t.lane(i);
+                    let id = bvh.ids[first + c * L::LANES + i];
+                    if better(t, id, best) {
+                        *best = Some(Best {
+                            t,
+                            u: h.u.lane(i),
+                            v: h.v.lane(i),
+                            scale: h.scale.lane(i),
+                            id,
+                        });
+                    }
+                }
+            }
+            cull = f32_bound(bound(t_max, best));
+            continue;
+        }
+        let node = &bvh.nodes[e.child as usize];
+        let lo = V3::new(
+            f32x8::from(node.lo[0]),
+            f32x8::from(node.lo[1]),
+            f32x8::from(node.lo[2]),
+        );
+        let hi = V3::new(
+            f32x8::from(node.hi[0]),
+            f32x8::from(node.hi[1]),
+            f32x8::from(node.hi[2]),
+        );
+        let (mask, near) = slab(lo, hi, br, f32x8::splat(cull));
+        // Empty slots hold inverted boxes (lo = +inf > hi = −inf).
+        let mut bits = (mask & lo.x.le(hi.x)).bitmask();
+        let near = near.to_array();
+        let mut hits = [(
+            0.0f32,
+            Entry {
+                child: 0,
+                count: 0,
+                near: 0.0f32,
+            },
+        ); WIDTH];
+        let mut n = 0;
+        while bits != 0 {
+            let s = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            hits[n] = (
+                near[s],
+                Entry {
+                    child: node.child[s],
+                    count: node.count[s],
+                    near: near[s],
+                },
+            );
+            n += 1;
+        }
+        sort_far_first(&mut hits[..n]);
+        for h in &hits[..n] {
+            stack[sp] = h.1;
+            sp += 1;
+        }
+    }
+    false
+}
+
+/// Prepares one ray for [`trace_single`] and runs it from the root.
+fn single<L: Lanes, K: Kernel<L>, const ANY: bool>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    ray: &Ray,
+) -> (bool, Option<Best<L::Scalar>>) {
+    let mut best = None;
+    if bvh.nodes.is_empty() {
+        return (false, best);
+    }
+    let rl = RayLanes::<L>::broadcast(ray);
+    let br = BoxRay::new(&RayLanes::<f32x8>::broadcast(ray));
+    if br.valid.none() {
+        return (false, best);
+    }
+    let any = trace_single::<L, K, ANY>(bvh, &rl, &K::prepare(&rl), &br, (0, 0), &mut best);
+    (any, best)
+}
+
+/// Closest hit of one ray, leaves tested `L::LANES` primitives at a time with kernel `K`
+/// (`L = f32x8` or `f32x16` for the f32 tiers, `f64x4`/`f64x8` for the f64 tier). `prim` is the
+/// index in the slice the tree was built from.
+pub fn closest_hit<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, ray: &Ray) -> Option<Hit> {
+    single::<L, K, false>(bvh, ray).1.map(|b| b.hit())
+}
+
+/// Does one ray hit anything in `[t_min, t_max]` (occlusion)? Stops at the first hit.
+pub fn any_hit<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, ray: &Ray) -> bool {
+    single::<L, K, true>(bvh, ray).0
+}
+
+/// Per-lane state of a packet query.
+struct PacketBest<L: Lanes> {
+    mask: L::Mask,
+    t: L,
+    u: L,
+    v: L,
+    scale: L,
+    id: L::Index,
+}
+
+/// Lanes from a bitmask.
+#[inline(always)]
+fn mask_of<L: Lanes>(bits: u32) -> L::Mask {
+    L::from_fn(|i| L::Scalar::from_f32(if (bits >> i) & 1 == 1 { 1.0 } else { 0.0 })).gt(L::zero())
+}
+
+/// Lanes at which a packet continues ray by ray.
+#[inline(always)]
+fn hybrid_threshold<L: Lanes>() -> u32 {
+    if L::LANES >= 8 {
+        (L::LANES as u32 / 4).min(2)
+    } else {
+        0
+    }
+}
+
+/// The packet walk: `ANY` stops lanes at their first hit.
+fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    rays: &RayLanes<L>,
+) -> PacketBest<L> {
+    let mut best = PacketBest::<L> {
+        mask: L::first_lanes(0),
+        t: rays.t_max,
+        u: L::zero(),
+        v: L::zero(),
+        scale: L::splat(1.0),
+        id: L::splat_index(0),
+    };
+    let br = BoxRay::new(rays);
+    if bvh.nodes.is_empty() || br.valid.none() {
+        return best;
+    }
+    let pre = K::prepare(rays);
+    let nan = L::splat(f32::NAN);
+    let mut stack = [Entry {
+        child: 0,
+        count: 0,
+        near: nan,
+    }; STACK];
+    stack[0] = Entry {
+        child: 0,
+        count: 0,
+        near: L::select(br.valid, L::splat(f32::NEG_INFINITY), nan),
+    };
+    let mut sp = 1;
+    let mut ray = *rays;
+    let loosen_lanes =
+        |t: L| t + t.abs() * L::splat(1.0 / 1_048_576.0) + L::splat(f32::MIN_POSITIVE);
+    let mut cull = rays.t_max;
+    while sp > 0 {
+        sp -= 1;
+        let e = stack[sp];
+        let mut live = e.near.le(cull);
+        if ANY {
+            live = live & !best.mask;
+        }
+        let bits = live.bitmask();
+        if bits == 0 {
+            continue;
+        }
+        if bits.count_ones() <= hybrid_threshold::<L>() {
+            // Few lanes left here: finish this subtree ray by ray.
+            let mut b = bits;
+            while b != 0 {
+                let i = b.trailing_zeros() as usize;
+                b &= b - 1;
+                let rl = rays.broadcast_lane(i);
+                let lane_br = BoxRay::new(&RayLanes::<f32x8>::broadcast(&rays.ray(i)));
+                let had = (best.mask.bitmask() >> i) & 1 == 1;
+                let mut one = had.then(|| Best {
+                    t: best.t.lane(i),
+                    u: best.u.lane(i),
+                    v: best.v.lane(i),
+                    scale: best.scale.lane(i),
+                    id: L::index_lane(best.id, i),
+                });
+                let hit = trace_single::<L, K, ANY>(
+                    bvh,
+                    &rl,
+                    &K::prepare(&rl),
+                    &lane_br,
+                    (e.child, e.count),
+                    &mut one,
+                );
+                if ANY {
+                    if hit {
+                        best.mask = best.mask | mask_of::<L>(1 << i);
+                    }
+                } else if let Some(o) = one {
+                    let m = mask_of::<L>(1 << i);
+                    best.mask = best.mask | m;
+                    best.t = L::select(m, L::splat_scalar(o.t), best.t);
+                    best.u = L::select(m, L::splat_scalar(o.u), best.u);
+                    best.v = L::select(m, L::splat_scalar(o.v), best.v);
+                    best.scale = L::select(m, L::splat_scalar(o.scale), best.scale);
+                    best.id = L::select_index(m, L::splat_index(o.id), best.id);
+                    cull = L::select(m, loosen_lanes(best.t), cull);
+                }
+            }
+            continue;
+        }
+        if e.count > 0 {
+            let first = e.child as usize;
+            ray.active = live;
+            for k in first..first + e.count as usize {
+                ray.t_max = cull;
+                let h = K::intersect(&ray, &pre, &bvh.prims[k]);
+                if h.mask.none() {
+                    continue;
+                }
+                let id = bvh.ids[k];
+                let mut m = h.mask & (!best.mask | h.t.lt(best.t));
+                let tie = h.mask & best.mask & !h.t.ne(best.t);
+                if tie.any() {
+                    let mut lower = 0;
+                    let mut tb = tie.bitmask();
+                    while tb != 0 {
+                        let i = tb.trailing_zeros() as usize;
+                        tb &= tb - 1;
+                        if id < L::index_lane(best.id, i) {
+                            lower |= 1 << i;
+                        }
+                    }
+                    m = m | (tie & mask_of::<L>(lower));
+                }
+                best.mask = best.mask | m;
+                best.t = L::select(m, h.t, best.t);
+                best.u = L::select(m, h.u, best.u);
+                best.v = L::select(m, h.v, best.v);
+                best.scale = L::select(m, h.scale, best.scale);
+                best.id = L::select_index(m, L::splat_index(id), best.id);
+                if ANY {
+                    ray.active = ray.active & !best.mask;
+                    if ray.active.none() {
+                        break;
+                    }
+                } else {
+                    cull = L::select(m, loosen_lanes(best.t), cull);
+                }
+            }
+            continue;
+        }
+        let node = &bvh.nodes[e.child as usize];
+        let mut hits = [(
+            0.0f32,
+            Entry {
+                child: 0,
+                count: 0,
+                near: nan,
+            },
+        ); WIDTH];
+        let mut n = 0;
+        for s in 0..WIDTH {
+            if node.child[s] == super::EMPTY {
+                break;
+            }
+            let lo = V3::splat([node.lo[0][s], node.lo[1][s], node.lo[2][s]]);
+            let hi = V3::splat([node.hi[0][s], node.hi[1][s], node.hi[2][s]]);
+            let (m, near) = slab(lo, hi, &br, cull);
+            let m = m & live;
+            let mb = m.bitmask();
+            if mb == 0 {
+                continue;
+            }
+            // Sort key: the nearest entry among the lanes that enter.
+            let near = L::select(m, near, nan);
+            let mut key = f32::INFINITY;
+            let mut b = mb;
+            while b != 0 {
+                let i = b.trailing_zeros() as usize;
+                b &= b - 1;
+                key = key.min(near.lane(i).to_f32());
+            }
+            hits[n] = (
+                key,
+                Entry {
+                    child: node.child[s],
+                    count: node.count[s],
+                    near,
+                },
+            );
+            n += 1;
+        }
+        sort_far_first(&mut hits[..n]);
+        for h in &hits[..n] {
+            stack[sp] = h.1;
+            sp += 1;
+        }
+    }
+    best
+}
+
+/// Closest hit per lane of a packet with kernel `K`. Lane by lane equal to
+/// [`crate::query::closest_hit`] over the slice the tree was built from (the `prim` lanes are
+/// indices into that slice). Lanes that miss hold `t = t_max` and zero barycentrics.
+pub fn closest_hit_packet<L: Lanes, K: Kernel<L>>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    rays: &RayLanes<L>,
+) -> ClosestHit<L> {
+    let b = packet::<L, K, false>(bvh, rays);
+    ClosestHit {
+        mask: b.mask,
+        t: b.t,
+        u: b.u / b.scale,
+        v: b.v / b.scale,
+        prim: b.id,
+    }
+}
+
+/// Closest `t` per lane of a packet: the mask of lanes that hit and their nearest `t`, equal to
+/// [`closest_hit_packet`]'s.
+pub fn closest_t_packet<L: Lanes, K: Kernel<L>>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    rays: &RayLanes<L>,
+) -> (L::Mask, L) {
+    let b = packet::<L, K, false>(bvh, rays);
+    (b.mask, b.t)
+}
+
+/// Lanes of a packet that hit anything in `[t_min, t_max]` (occlusion).
+pub fn any_hit_packet<L: Lanes, K: Kernel<L>>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    rays: &RayLanes<L>,
+) -> L::Mask {
+    packet::<L, K, true>(bvh, rays).mask
+}
+
+/// Do all rays of a chunk point into one octant (a coherent packet)?
+fn coherent(rays: &[Ray]) -> bool {
+    let octant = |r: &Ray| {
+        (r.dir.x.is_sign_negative() as u8)
+            | ((r.dir.y.is_sign_negative() as u8) << 1)
+            | ((r.dir.z.is_sign_negative() as u8) << 2)
+    };
+    rays.iter().all(|r| octant(r) == octant(&rays[0]))
+}
+
+/// Closest hit of every ray: `out[i]` for `rays[i]`. Chunks of `L::LANES` rays that share a
+/// direction octant are traced as packets, the others ray by ray; the answers are the same
+/// either way.
+///
+/// # Panics
+/// When `out.len() != rays.len()`.
+pub fn closest_hits<L: Lanes, K: Kernel<L>>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    rays: &[Ray],
+    out: &mut [Option<Hit>],
+) {
+    assert_eq!(
+        out.len(),
+        rays.len(),
+        "octoray closest_hits: out has {} entries for {} rays",
+        out.len(),
+        rays.len()
+    );
+    for (chunk, out) in rays.chunks(L::LANES).zip(out.chunks_mut(L::LANES)) {
+        if chunk.len() > 1 && coherent(chunk) {
+            let h = closest_hit_packet::<L, K>(bvh, &RayLanes::load(chunk));
+            for (i, o) in out.iter_mut().enumerate() {
+                *o = h.lane(i);
+            }
+        } else {
+            for (r, o) in chunk.iter().zip(out) {
+                *o = closest_hit::<L, K>(bvh, r);
+            }
+        }
+    }
+}
+
+/// Occlusion of every ray: `out[i]` for `rays[i]`, packets or single rays as
+/// [`closest_hits`] picks them.
+///
+/// # Panics
+/// When `out.len() != rays.len()`.
+pub fn occluded<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray], out: &mut [bool]) {
+    assert_eq!(
+        out.len(),
+        rays.len(),
+        "octoray occluded: out has {} entries for {} rays",
+        out.len(),
+        rays.len()
+    );
+    for (chunk, out) in rays.chunks(L::LANES).zip(out.chunks_mut(L::LANES)) {
+        if chunk.len() > 1 && coherent(chunk) {
+            let m = any_hit_packet::<L, K>(bvh, &RayLanes::load(chunk)).bitmask();
+            for (i, o) in out.iter_mut().enumerate() {
+                *o = (m >> i) & 1 == 1;
+            }
+        } else {
+            for (r, o) in chunk.iter().zip(out) {
+                *o = any_hit::<L, K>(bvh, r);
+            }
+        }
+    }
+}

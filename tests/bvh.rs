@@ -1,0 +1,420 @@
+//! The BVH's answers equal brute force, bit for bit: the proof that the tree and its traversal
+//! are right. For every tier and width, on proptest scenes (random soups, clusters, duplicated,
+//! degenerate and zero-area triangles, axis-aligned quads, scales 1e-6…1e6, offsets to 1e6) and
+//! rays (from inside and outside the scene's bounds, axis-parallel with ±0 components, aimed at
+//! vertices and edges, with ranges, and invalid), the single-ray, packet and batch traversals give
+//! the same hit/miss, `t`, `u`, `v` bits and primitive index as `query::closest_hit` over the
+//! slice, and the same occlusion as `query::any_hit`.
+#![cfg(all(feature = "triangle", feature = "sphere", feature = "alloc"))]
+mod common;
+
+use common::mesh::crack_suite_with;
+use common::Rng;
+use octoray::core::bvh::traverse::{
+    any_hit, any_hit_packet, closest_hit, closest_hit_packet, closest_hits, closest_t_packet,
+    occluded,
+};
+use octoray::core::bvh::{Bvh8, Bvh8Node, Bvh8Ref, BvhError, EMPTY};
+use octoray::core::kernel::{
+    Fast, Kernel, NaiveSphere, StableSphere, Standard, StandardCulled, Watertight, WatertightCulled,
+};
+use octoray::core::query;
+use octoray::core::{LaneMask, Lanes, RayLanes, Scalar};
+use octoray::glam::Vec3;
+use octoray::packet::{f32x16, f32x4, f32x8};
+use octoray::{Hit, PackedSphere, PackedTriangle, Ray, VertexTriangle};
+use proptest::prelude::*;
+use wide::f64x4;
+
+fn bits(h: Option<Hit>) -> Option<(u32, u32, u32, u32)> {
+    h.map(|h| (h.t.to_bits(), h.u.to_bits(), h.v.to_bits(), h.prim))
+}
+
+/// Checks every traversal against brute force on `rays`; returns the number of hits.
+fn check<L: Lanes, K: Kernel<L>>(prims: &[K::Prim], rays: &[Ray]) -> usize {
+    let tree = Bvh8::build(prims);
+    let bvh = tree.as_ref();
+    let mut batch = vec![None; rays.len()];
+    closest_hits::<L, K>(bvh, rays, &mut batch);
+    let mut occ = vec![false; rays.len()];
+    occluded::<L, K>(bvh, rays, &mut occ);
+    let mut hits = 0;
+    for (c, chunk) in rays.chunks(L::LANES).enumerate() {
+        let p = RayLanes::<L>::load(chunk);
+        let brute = query::closest_hit::<L, K>(&p, prims);
+        let packet = closest_hit_packet::<L, K>(bvh, &p);
+        let (tm, tt) = closest_t_packet::<L, K>(bvh, &p);
+        let any_brute = query::any_hit::<L, K>(&p, prims).bitmask();
+        let any_packet = any_hit_packet::<L, K>(bvh, &p).bitmask();
+        for (i, ray) in chunk.iter().enumerate() {
+            let want = bits(brute.lane(i));
+            let k = c * L::LANES + i;
+            assert_eq!(
+                bits(packet.lane(i)),
+                want,
+                "packet {} {}, ray {ray:?}",
+                std::any::type_name::<K>(),
+                std::any::type_name::<L>()
+            );
+            assert_eq!(
+                bits(closest_hit::<L, K>(bvh, ray)),
+                want,
+                "single, ray {ray:?}"
+            );
+            assert_eq!(bits(batch[k]), want, "batch, ray {ray:?}");
+            assert_eq!((tm.bitmask() >> i) & 1 == 1, want.is_some());
+            if let Some(w) = want {
+                assert_eq!(Lanes::lane(tt, i).to_f32().to_bits(), w.0);
+                hits += 1;
+            }
+            let a = (any_brute >> i) & 1 == 1;
+            assert_eq!(a, want.is_some(), "any-hit agrees with closest-hit");
+            assert_eq!((any_packet >> i) & 1 == 1, a, "any packet, ray {ray:?}");
+            assert_eq!(any_hit::<L, K>(bvh, ray), a, "any single, ray {ray:?}");
+            assert_eq!(occ[k], a, "occluded batch, ray {ray:?}");
+        }
+    }
+    hits
+}
+
+/// A scene of `n` triangles of one of several kinds, at a random scale and offset.
+fn triangles(rng: &mut Rng) -> (Vec<[Vec3; 3]>, Vec3, f32) {
+    let kind = rng.next_u64() % 5;
+    let n = 1 + (rng.next_u64() % 300) as usize;
+    let s = 10f32.powf(rng.range(-6.0, 6.0));
+    let off = if rng.below(2) == 0 {
+        Vec3::ZERO
+    } else {
+        rng.vec3(1.0) * 10f32.powf(rng.range(0.0, 6.0))
+    };
+    let mut tris = Vec::with_capacity(n);
+    let centers: Vec<Vec3> = (0..3).map(|_| rng.vec3(s)).collect();
+    for i in 0..n {
+        let t = match kind {
+            // Soup.
+            0 => {
+                let a = off + rng.vec3(s);
+                [a, a + rng.vec3(s * 0.3), a + rng.vec3(s * 0.3)]
+            }
+            // Clusters of small triangles.
+            1 => {
+                let c = off + centers[i % 3] + rng.vec3(s * 0.01);
+                [c, c + rng.vec3(s * 0.02), c + rng.vec3(s * 0.02)]
+            }
+            // Duplicates (exact copies) and shared vertices.
+            2 if i > 0 && rng.below(2) == 0 => tris[(rng.next_u64() % i as u64) as usize],
+            // Degenerate: zero area, collinear, repeated vertex.
+            3 if rng.below(3) == 0 => {
+                let a = off + rng.vec3(s);
+                let b = a + rng.vec3(s * 0.3);
+                match rng.next_u64() % 3 {
+                    0 => [a, a, b],
+                    1 => [a, b, a + (b - a) * 0.5],
+                    _ => [a, a, a],
+                }
+            }
+            // Axis-aligned quads (two triangles each), in a grid.
+            4 => {
+                let cell = s * 0.1;
+                let g = Vec3::new((i % 7) as f32, ((i / 7) % 7) as f32, (i / 49) as f32) * cell;
+                let a = off + g;
+                let axis = i % 3;
+                let (u, v) = match axis {
+                    0 => (Vec3::Y * cell, Vec3::Z * cell),
+                    1 => (Vec3::Z * cell, Vec3::X * cell),
+                    _ => (Vec3::X * cell, Vec3::Y * cell),
+                };
+                if i % 2 == 0 {
+                    [a, a + u, a + u + v]
+                } else {
+                    [a, a + u + v, a + v]
+                }
+            }
+            _ => {
+                let a = off + rng.vec3(s);
+                [a, a + rng.vec3(s * 0.3), a + rng.vec3(s * 0.3)]
+            }
+        };
+        tris.push(t);
+    }
+    (tris, off, s)
+}
+
+/// Rays for a scene at `off` of size `s` aimed at `targets`: coherent groups (one origin) and
+/// incoherent ones, from inside and outside the bounds, axis-parallel, aimed at vertices and
+/// edge points, with random ranges, and a few invalid.
+fn rays(rng: &mut Rng, targets: &[Vec3], off: Vec3, s: f32, n: usize) -> Vec<Ray> {
+    let mut out = Vec::with_capacity(n);
+    let mut origin = off + rng.vec3(2.0 * s);
+    for i in 0..n {
+        if i % 16 == 0 || rng.below(4) == 0 {
+            origin = if rng.below(2) == 0 {
+                off + rng.vec3(0.5 * s)
+            } else {
+                off + rng.vec3(3.0 * s)
+            };
+        }
+        let target = targets[(rng.next_u64() % targets.len() as u64) as usize];
+        let mut dir = match rng.next_u64() % 6 {
+            0 => rng.vec3(1.0),
+            1 => {
+                // Axis-parallel, with signed zeros.
+                let mut d = [0.0f32, -0.0, 0.0];
+                d[(rng.next_u64() % 3) as usize] = if rng.below(2) == 0 { 1.0 } else { -1.0 };
+                Vec3::from(d)
+            }
+            _ => target - origin,
+        };
+        if rng.below(50) == 0 {
+            dir = Vec3::new(f32::NAN, 1.0, 0.0);
+        }
+        let (t_min, t_max) = match rng.next_u64() % 5 {
+            0 => (rng.range(0.0, 0.5), rng.range(0.5, 2.0)),
+            1 => (0.0, 1.0),
+            _ => (0.0, f32::INFINITY),
+        };
+        out.push(Ray::with_range(origin, dir, t_min, t_max));
+    }
+    out
+}
+
+fn targets(tris: &[[Vec3; 3]], rng: &mut Rng) -> Vec<Vec3> {
+    tris.iter()
+        .map(|t| match rng.next_u64() % 4 {
+            0 => t[0],
+            1 => t[0] + (t[1] - t[0]) * 0.5,
+            2 => (t[0] + t[1] + t[2]) / 3.0,
+            _ => t[2],
+        })
+        .collect()
+}
+
+fn triangle_scene(seed: u64) {
+    let mut rng = Rng(seed);
+    let (tris, off, s) = triangles(&mut rng);
+    let tg = targets(&tris, &mut rng);
+    let rays = rays(&mut rng, &tg, off, s, 96);
+    let packed: Vec<PackedTriangle> = tris
+        .iter()
+        .map(|t| PackedTriangle::new(t[0], t[1], t[2]))
+        .collect();
+    let verts: Vec<VertexTriangle> = tris
+        .iter()
+        .map(|t| VertexTriangle::new(t[0], t[1], t[2]))
+        .collect();
+    check::<f32x8, Standard>(&packed, &rays);
+    check::<f32x16, Standard>(&packed, &rays);
+    check::<f32x4, StandardCulled>(&packed, &rays);
+    check::<f32x8, Watertight>(&verts, &rays);
+    check::<f32x16, WatertightCulled>(&verts, &rays);
+    check::<f32x8, Fast>(&packed, &rays);
+    check::<f64x4, Standard>(&packed, &rays);
+    check::<f64x4, Watertight>(&verts, &rays);
+}
+
+fn sphere_scene(seed: u64) {
+    let mut rng = Rng(seed);
+    let n = 1 + (rng.next_u64() % 200) as usize;
+    let s = 10f32.powf(rng.range(-5.0, 5.0));
+    let off = rng.vec3(1.0) * 10f32.powf(rng.range(0.0, 5.0));
+    let spheres: Vec<(Vec3, f32)> = (0..n)
+        .map(|i| {
+            let r = match i % 7 {
+                0 => 0.0,
+                1 => -1.0,
+                _ => s * rng.range(0.001, 0.1),
+            };
+            (off + rng.vec3(s), r)
+        })
+        .collect();
+    let tg: Vec<Vec3> = spheres.iter().map(|c| c.0).collect();
+    let rays = rays(&mut rng, &tg, off, s, 96);
+    let packed: Vec<PackedSphere> = spheres
+        .iter()
+        .map(|&(c, r)| PackedSphere::new(c, r))
+        .collect();
+    check::<f32x8, StableSphere>(&packed, &rays);
+    check::<f32x16, StableSphere>(&packed, &rays);
+    check::<f32x8, NaiveSphere>(&packed, &rays);
+    check::<f64x4, StableSphere>(&packed, &rays);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+    #[test]
+    fn bvh_equals_brute_force_on_triangle_scenes(seed in any::<u64>()) {
+        triangle_scene(seed);
+    }
+
+    #[test]
+    fn bvh_equals_brute_force_on_sphere_scenes(seed in any::<u64>()) {
+        sphere_scene(seed);
+    }
+}
+
+#[test]
+fn many_hits_are_checked() {
+    // The equality is not vacuous: a fixed scene and its rays do hit.
+    let mut rng = Rng(7);
+    let (tris, off, s) = triangles(&mut rng);
+    let tg = targets(&tris, &mut rng);
+    let rays = rays(&mut rng, &tg, off, s, 512);
+    let packed: Vec<PackedTriangle> = tris
+        .iter()
+        .map(|t| PackedTriangle::new(t[0], t[1], t[2]))
+        .collect();
+    let hits = check::<f32x8, Standard>(&packed, &rays);
+    assert!(hits > 100, "only {hits} hits of 512 rays");
+}
+
+#[test]
+fn ties_go_to_the_lower_index_like_brute_force() {
+    // 40 copies of one triangle, shuffled among others: every ray through it hits all copies at
+    // the same t; the BVH must report the lowest index, as brute force does.
+    let v = Vec3::new;
+    let mut tris = vec![];
+    for i in 0..200 {
+        let x = (i % 20) as f32;
+        tris.push(VertexTriangle::new(
+            v(x, 0.0, 5.0),
+            v(x + 1.0, 0.0, 5.0),
+            v(x, 1.0, 5.0),
+        ));
+    }
+    for k in [3usize, 17, 44, 90, 151, 199] {
+        tris[k] = tris[2];
+    }
+    let rays: Vec<Ray> = (0..64)
+        .map(|i| Ray::new(v(2.2 + 0.001 * i as f32, 0.2, 0.0), v(0.0, 0.0, 1.0)))
+        .collect();
+    check::<f32x8, Watertight>(&tris, &rays);
+    let bvh = Bvh8::build(&tris);
+    assert_eq!(
+        closest_hit::<f32x8, Watertight>(bvh.as_ref(), &rays[0])
+            .unwrap()
+            .prim,
+        2
+    );
+}
+
+#[test]
+fn crack_suite_through_the_bvh_has_no_escapes() {
+    // The closed meshes of tests/watertight.rs, traced through the BVH (packets with hybrid
+    // fallback): the watertight tier still lets no ray escape, and the standard tier's cracks
+    // are the same ones as brute force's.
+    let rows = crack_suite_with(2_500, |tris, rays| {
+        let bvh = Bvh8::build(tris);
+        let mut out = vec![false; rays.len()];
+        occluded::<f32x8, Watertight>(bvh.as_ref(), rays, &mut out);
+        out.iter().filter(|&&o| !o).count()
+    });
+    let mut total = 0;
+    for (mesh, rays, escapes) in rows {
+        println!("{mesh}: {rays} rays, {escapes} escapes through the BVH");
+        assert_eq!(
+            escapes, 0,
+            "{mesh}: the watertight tier leaked through the BVH"
+        );
+        total += rays;
+    }
+    assert_eq!(total, 20_000);
+}
+
+#[test]
+fn empty_and_unhittable_scenes_miss() {
+    let ray = Ray::new(Vec3::ZERO, Vec3::Z);
+    let none: Vec<PackedTriangle> = vec![];
+    let b = Bvh8::build(&none);
+    assert_eq!(b.stats().prims, 0);
+    assert_eq!(closest_hit::<f32x8, Standard>(b.as_ref(), &ray), None);
+    let p = RayLanes::<f32x8>::load(&[ray; 8]);
+    assert_eq!(
+        closest_hit_packet::<f32x8, Standard>(b.as_ref(), &p)
+            .mask
+            .bitmask(),
+        0
+    );
+    // Non-finite triangles are left out and never hit.
+    let bad = vec![
+        PackedTriangle::new(Vec3::new(f32::NAN, 0.0, 1.0), Vec3::X, Vec3::Y),
+        PackedTriangle::new(Vec3::new(f32::INFINITY, 0.0, 1.0), Vec3::X, Vec3::Y),
+    ];
+    let b = Bvh8::build(&bad);
+    assert_eq!((b.stats().prims, b.stats().skipped), (0, 2));
+    assert_eq!(closest_hit::<f32x8, Standard>(b.as_ref(), &ray), None);
+}
+
+#[test]
+fn build_is_deterministic_and_plain_data() {
+    let mut rng = Rng(99);
+    let (tris, ..) = triangles(&mut rng);
+    let verts: Vec<VertexTriangle> = tris
+        .iter()
+        .map(|t| VertexTriangle::new(t[0], t[1], t[2]))
+        .collect();
+    let a = Bvh8::build(&verts);
+    let b = Bvh8::build(&verts);
+    let bytes: &[u8] = bytemuck::cast_slice(a.nodes());
+    assert_eq!(bytes, bytemuck::cast_slice::<Bvh8Node, u8>(b.nodes()));
+    assert_eq!(a.ids(), b.ids());
+    // Written out as bytes and read back as borrowed slices, it traverses the same.
+    let nodes: Vec<Bvh8Node> = bytemuck::pod_collect_to_vec(bytes);
+    let r = Bvh8Ref::new(&nodes, a.prims(), a.ids()).expect("valid tree");
+    let ray = Ray::new(Vec3::new(0.0, 0.0, -1e7), Vec3::Z);
+    assert_eq!(
+        bits(closest_hit::<f32x8, Watertight>(r, &ray)),
+        bits(query::closest_hit::<f32, Watertight>(&RayLanes::single(&ray), &verts).lane(0))
+    );
+}
+
+#[test]
+fn bad_trees_are_rejected_not_traversed() {
+    let tris = [VertexTriangle::new(Vec3::ZERO, Vec3::X, Vec3::Y)];
+    let ids = [0u32];
+    let mut n = Bvh8Node::EMPTY;
+    n.child[0] = 0; // an inner node pointing at itself: a cycle
+    assert_eq!(
+        Bvh8Ref::new(&[n], &tris, &ids).unwrap_err(),
+        BvhError::BadNodeRef { node: 0 }
+    );
+    n.child[0] = 0;
+    n.count[0] = 2; // a leaf past the primitives
+    assert_eq!(
+        Bvh8Ref::new(&[n], &tris, &ids).unwrap_err(),
+        BvhError::BadLeaf { node: 0 }
+    );
+    n.count[0] = 1;
+    assert!(Bvh8Ref::new(&[n], &tris, &ids).is_ok());
+    assert_eq!(
+        Bvh8Ref::new(&[n], &tris, &[]).unwrap_err(),
+        BvhError::LengthMismatch { prims: 1, ids: 0 }
+    );
+    // A chain deeper than MAX_DEPTH.
+    let deep: Vec<Bvh8Node> = (0..70u32)
+        .map(|i| {
+            let mut n = Bvh8Node::EMPTY;
+            n.child[0] = if i == 69 { EMPTY } else { i + 1 };
+            n
+        })
+        .collect();
+    assert_eq!(
+        Bvh8Ref::new(&deep, &tris, &ids).unwrap_err(),
+        BvhError::TooDeep
+    );
+}
+
+#[test]
+#[should_panic(expected = "out has 3 entries for 4 rays")]
+fn batch_length_mismatch_panics() {
+    let tris = [PackedTriangle::new(Vec3::ZERO, Vec3::X, Vec3::Y)];
+    let b = Bvh8::build(&tris);
+    let mut out = [None; 3];
+    closest_hits::<f32x8, Standard>(b.as_ref(), &[Ray::new(Vec3::ZERO, Vec3::Z); 4], &mut out);
+}
+
+#[test]
+fn regression_fast_tier_hit_on_a_zero_area_triangle() {
+    // Found by the equality proptest: the fast tier reported a hit (u = v = 0) on a collinear
+    // triangle far from the ray, which the BVH's box rightly culled.
+    triangle_scene(10981392969920591453);
+}
