@@ -9,12 +9,13 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 echo "== no_std: host staticlib with its own panic handler"
 cargo build --quiet --manifest-path .ci/nostd-check/Cargo.toml --target-dir target/nostd-check
-echo "ok: octoray-core + octoray-packet link into a #![no_std] staticlib"
+echo "ok: octoray-core + octoray-packet (kernels and BVH traversal, alloc off) link into a #![no_std] staticlib"
 echo "== no_std: thumbv7em-none-eabihf"
 if rustup target list --installed 2>/dev/null | grep -qx thumbv7em-none-eabihf \
    || rustup target add thumbv7em-none-eabihf >/dev/null 2>&1; then
   cargo build --quiet -p octoray-core -p octoray-packet --target thumbv7em-none-eabihf
-  echo "ok: octoray-core + octoray-packet build for thumbv7em-none-eabihf"
+  cargo build --quiet -p octoray-core --no-default-features --features triangle,sphere --target thumbv7em-none-eabihf
+  echo "ok: octoray-core (with and without alloc: BVH build and traversal) + octoray-packet build for thumbv7em-none-eabihf"
 else
   echo "skipped: rustup could not add thumbv7em-none-eabihf here (the staticlib check above still ran)"
 fi

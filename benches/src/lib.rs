@@ -5,5 +5,6 @@
 #![allow(missing_docs)]
 
 pub mod peers;
+pub mod scenes;
 pub mod speed;
 pub mod workload;

@@ -3,6 +3,9 @@
 
 use octoray_core::glam::Vec3;
 use octoray_core::{PackedSphere, PackedTriangle, Ray};
+use octoray_core::bvh::{traverse, Bvh8Node, Bvh8Ref};
+use octoray_core::kernel::Watertight;
+use octoray_core::VertexTriangle;
 use octoray_packet::{f32x8, LaneMask, RayPacket};
 
 #[panic_handler]
@@ -21,4 +24,26 @@ pub extern "C" fn octoray_nostd_probe(x: f32) -> u32 {
     let s = octoray_packet::any_sphere(&p, &[sph]).bitmask();
     let scalar = octoray_core::intersect_triangle(&ray, &tri).is_some() as u32;
     t ^ (s << 8) ^ (scalar << 16)
+}
+
+/// BVH traversal from borrowed slices with neither `std` nor `alloc`: a tree built on a host and
+/// handed over as bytes (here a one-leaf tree made by hand) is validated and traversed, single
+/// ray and packet. Returns the hit index, or u32::MAX for a miss or an invalid tree.
+#[no_mangle]
+pub extern "C" fn octoray_nostd_bvh_probe(
+    nodes: &[Bvh8Node; 1],
+    tris: &[VertexTriangle; 2],
+    ids: &[u32; 2],
+    x: f32,
+) -> u32 {
+    let Ok(bvh) = Bvh8Ref::new(nodes, tris, ids) else {
+        return u32::MAX;
+    };
+    let ray = Ray::new(Vec3::new(x, 0.25, -1.0), Vec3::new(0.0, 0.0, 1.0));
+    let packet = RayPacket::<f32x8>::load(&[ray; 3]);
+    let p = traverse::closest_hit_packet::<f32x8, Watertight>(bvh, &packet);
+    match traverse::closest_hit::<f32x8, Watertight>(bvh, &ray) {
+        Some(h) => h.prim ^ (p.mask.bitmask() << 8),
+        None => u32::MAX,
+    }
 }

@@ -1,0 +1,260 @@
+//! The scene-level report: BVH build and traversal on Sponza and a generated ≥ 1 M-triangle
+//! sphere, one thread and all cores, packets of 8 and 16, single rays, closest and any hit,
+//! primary and diffuse-bounce rays. Writes `benches/scenes.md` and prints it.
+//!
+//! Run: `RUSTFLAGS="-C target-cpu=native" cargo run --release -p octoray-benches --bin scenes`
+//! (`-- --quick` for one run per row instead of the best of three).
+
+use octoray::core::bvh::traverse::{
+    any_hit, any_hit_packet, closest_hit, closest_hit_packet, closest_hits,
+};
+use octoray::core::bvh::{Bvh8, Bvh8Ref};
+use octoray::core::kernel::{Kernel, Standard, Watertight};
+use octoray::core::{LaneMask, Lanes, RayLanes};
+use octoray::{PackedTriangle, Ray};
+use octoray_benches::scenes::{jittered_sphere, sponza, SceneSet};
+use rayon::prelude::*;
+use std::fmt::Write as _;
+use std::hint::black_box;
+use std::time::Instant;
+use wide::{f32x16, f32x8};
+
+/// Best wall time of `runs` runs of `f`, seconds.
+fn best(runs: usize, mut f: impl FnMut() -> u64) -> (f64, u64) {
+    let mut t = f64::INFINITY;
+    let mut r = 0;
+    for _ in 0..runs {
+        let s = Instant::now();
+        r = black_box(f());
+        t = t.min(s.elapsed().as_secs_f64());
+    }
+    (t, r)
+}
+
+fn packets_closest<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]) -> u64 {
+    rays.chunks(L::LANES)
+        .map(|c| {
+            let h = closest_hit_packet::<L, K>(bvh, &RayLanes::load(c));
+            u64::from(h.mask.bitmask().count_ones())
+        })
+        .sum()
+}
+
+fn packets_any<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]) -> u64 {
+    rays.chunks(L::LANES)
+        .map(|c| {
+            u64::from(
+                any_hit_packet::<L, K>(bvh, &RayLanes::load(c))
+                    .bitmask()
+                    .count_ones(),
+            )
+        })
+        .sum()
+}
+
+fn singles_closest<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]) -> u64 {
+    rays.iter()
+        .filter(|r| closest_hit::<L, K>(bvh, r).is_some())
+        .count() as u64
+}
+
+fn singles_any<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]) -> u64 {
+    rays.iter().filter(|r| any_hit::<L, K>(bvh, r)).count() as u64
+}
+
+fn batch_closest<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]) -> u64 {
+    let mut out = vec![None; rays.len()];
+    closest_hits::<L, K>(bvh, rays, &mut out);
+    out.iter().filter(|h| h.is_some()).count() as u64
+}
+
+fn flags() -> &'static str {
+    if cfg!(target_feature = "avx512f") {
+        "-C target-cpu=native (AVX-512, FMA)"
+    } else if cfg!(target_feature = "avx2") {
+        "AVX2"
+    } else {
+        "default x86-64 (SSE2)"
+    }
+}
+
+fn report(s: &SceneSet, runs: usize, md: &mut String) {
+    let (w, h) = (1024u32, 768u32);
+    let verts = s.vertex_tris();
+    let packed: Vec<PackedTriangle> = s
+        .tris
+        .iter()
+        .map(|t| PackedTriangle::new(t[0], t[1], t[2]))
+        .collect();
+    let (build_s, _) = best(runs, || Bvh8::build(&verts).stats().nodes as u64);
+    let wt = Bvh8::build(&verts);
+    let st = Bvh8::build(&packed);
+    let stats = wt.stats();
+    let p8 = s.primary_tiled(w, h, 4, 2);
+    let p16 = s.primary_tiled(w, h, 4, 4);
+    let bounce = s.diffuse_bounces(&p8, &wt);
+    let (wr, sr) = (wt.as_ref(), st.as_ref());
+    writeln!(
+        md,
+        "\n### {} ({} triangles; {} primary rays at {w}×{h}, {} diffuse-bounce rays)\n",
+        s.name,
+        s.tris.len(),
+        p8.len(),
+        bounce.len()
+    )
+    .unwrap();
+    writeln!(
+        md,
+        "Build (1 thread): **{:.3} s**; {} nodes, {} leaves, depth {}, SAH cost {:.1}, {:.0} bytes per triangle (watertight layout).\n",
+        build_s, stats.nodes, stats.leaves, stats.depth, stats.sah_cost, stats.bytes_per_prim
+    )
+    .unwrap();
+    writeln!(
+        md,
+        "| rays | query | traversal | tier | Mrays/s, 1 thread | hits |"
+    )
+    .unwrap();
+    writeln!(md, "|---|---|---|---|---|---|").unwrap();
+    let mut row =
+        |rays: &str, q: &str, how: &str, tier: &str, n: usize, f: &mut dyn FnMut() -> u64| {
+            let (t, hits) = best(runs, f);
+            writeln!(
+                md,
+                "| {rays} | {q} | {how} | {tier} | {:.2} | {hits} |",
+                n as f64 / t / 1e6
+            )
+            .unwrap();
+            eprintln!(
+                "{} {rays} {q} {how} {tier}: {:.2} Mrays/s",
+                s.name,
+                n as f64 / t / 1e6
+            );
+        };
+    row(
+        "primary",
+        "closest",
+        "packet-8 (4×2 tiles)",
+        "watertight",
+        p8.len(),
+        &mut || packets_closest::<f32x8, Watertight>(wr, &p8),
+    );
+    row(
+        "primary",
+        "closest",
+        "packet-16 (4×4 tiles)",
+        "watertight",
+        p16.len(),
+        &mut || packets_closest::<f32x16, Watertight>(wr, &p16),
+    );
+    row(
+        "primary",
+        "closest",
+        "single ray (leaves ×8)",
+        "watertight",
+        p8.len(),
+        &mut || singles_closest::<f32x8, Watertight>(wr, &p8),
+    );
+    row(
+        "primary",
+        "closest",
+        "packet-8",
+        "standard",
+        p8.len(),
+        &mut || packets_closest::<f32x8, Standard>(sr, &p8),
+    );
+    row(
+        "primary",
+        "closest",
+        "single ray",
+        "standard",
+        p8.len(),
+        &mut || singles_closest::<f32x8, Standard>(sr, &p8),
+    );
+    row(
+        "primary",
+        "any",
+        "packet-8",
+        "watertight",
+        p8.len(),
+        &mut || packets_any::<f32x8, Watertight>(wr, &p8),
+    );
+    row(
+        "primary",
+        "any",
+        "single ray",
+        "watertight",
+        p8.len(),
+        &mut || singles_any::<f32x8, Watertight>(wr, &p8),
+    );
+    row(
+        "diffuse bounce",
+        "closest",
+        "single ray",
+        "watertight",
+        bounce.len(),
+        &mut || singles_closest::<f32x8, Watertight>(wr, &bounce),
+    );
+    row(
+        "diffuse bounce",
+        "closest",
+        "batch (picks per 8 rays)",
+        "watertight",
+        bounce.len(),
+        &mut || batch_closest::<f32x8, Watertight>(wr, &bounce),
+    );
+    row(
+        "diffuse bounce",
+        "any",
+        "single ray",
+        "watertight",
+        bounce.len(),
+        &mut || singles_any::<f32x8, Watertight>(wr, &bounce),
+    );
+    let threads = rayon::current_num_threads();
+    let (t, _) = best(runs, || {
+        p8.par_chunks(1024)
+            .map(|c| packets_closest::<f32x8, Watertight>(wr, c))
+            .sum()
+    });
+    writeln!(
+        md,
+        "| primary | closest | packet-8, {threads} threads (rayon) | watertight | {:.2} ({threads} threads) | |",
+        p8.len() as f64 / t / 1e6
+    )
+    .unwrap();
+    let (t, _) = best(runs, || {
+        bounce
+            .par_chunks(1024)
+            .map(|c| singles_closest::<f32x8, Watertight>(wr, c))
+            .sum()
+    });
+    writeln!(
+        md,
+        "| diffuse bounce | closest | single ray, {threads} threads (rayon) | watertight | {:.2} ({threads} threads) | |",
+        bounce.len() as f64 / t / 1e6
+    )
+    .unwrap();
+}
+
+fn main() {
+    let quick = std::env::args().any(|a| a == "--quick");
+    let runs = if quick { 1 } else { 3 };
+    let mut md = String::new();
+    writeln!(md, "# octoray scene-level report\n").unwrap();
+    writeln!(
+        md,
+        "Generated by `RUSTFLAGS=\"-C target-cpu=native\" cargo run --release -p octoray-benches --bin scenes`. Build: {}. Best of {runs} runs per row; 8-wide BVH (binned SAH, 32 bins, leaves ≤ 8); one thread unless the row says otherwise.",
+        flags()
+    )
+    .unwrap();
+    match sponza() {
+        Ok(s) => report(&s, runs, &mut md),
+        Err(e) => writeln!(md, "\nSponza skipped: {e}").unwrap(),
+    }
+    report(&jittered_sphere(1024), runs, &mut md);
+    print!("{md}");
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes.md");
+    if let Err(e) = std::fs::write(path, &md) {
+        eprintln!("cannot write {path}: {e}");
+    }
+}

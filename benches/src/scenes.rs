@@ -1,0 +1,189 @@
+//! Scene-scale workloads: Sponza (the OBJ shipped in the `bvh` crate's package, found through
+//! `cargo metadata`) and a generated sphere of ≥ 1 M triangles, with 1024×768 pinhole primary rays
+//! and one diffuse bounce per primary hit.
+
+use glam::Vec3;
+use octoray::core::bvh::traverse::closest_hit;
+use octoray::core::bvh::Bvh8;
+use octoray::core::kernel::Watertight;
+use octoray::{Ray, VertexTriangle};
+use std::path::PathBuf;
+use std::process::Command;
+use wide::f32x8;
+
+/// A triangle scene with a camera.
+pub struct SceneSet {
+    pub name: &'static str,
+    pub tris: Vec<[Vec3; 3]>,
+    pub eye: Vec3,
+    pub target: Vec3,
+    /// Vertical field of view, radians.
+    pub fov: f32,
+}
+
+/// Where cargo unpacked the `bvh` crate's `media/sponza.obj`.
+pub fn sponza_path() -> Result<PathBuf, String> {
+    let out = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
+        .args(["metadata", "--format-version", "1"])
+        .output()
+        .map_err(|e| format!("cannot run cargo metadata: {e}"))?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    // Each package's "manifest_path":"…/bvh-0.13.x/Cargo.toml".
+    for part in text.split("\"manifest_path\":\"").skip(1) {
+        let path = &part[..part.find('"').unwrap_or(0)];
+        let dir = std::path::Path::new(path).parent().map(PathBuf::from);
+        if let Some(dir) = dir {
+            let name = dir.file_name().and_then(|n| n.to_str()).unwrap_or("");
+            if name.starts_with("bvh-0.") && dir.join("media/sponza.obj").is_file() {
+                return Ok(dir.join("media/sponza.obj"));
+            }
+        }
+    }
+    Err("the bvh crate's media/sponza.obj was not found through cargo metadata".into())
+}
+
+/// Sponza, triangulated (66 450 triangles), camera inside the atrium.
+pub fn sponza() -> Result<SceneSet, String> {
+    let path = sponza_path()?;
+    let opts = tobj::LoadOptions {
+        triangulate: true,
+        single_index: true,
+        ..Default::default()
+    };
+    let (models, _) =
+        tobj::load_obj(&path, &opts).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut tris = vec![];
+    for m in &models {
+        let p = &m.mesh.positions;
+        let v = |i: u32| {
+            Vec3::new(
+                p[3 * i as usize],
+                p[3 * i as usize + 1],
+                p[3 * i as usize + 2],
+            )
+        };
+        for f in m.mesh.indices.chunks_exact(3) {
+            tris.push([v(f[0]), v(f[1]), v(f[2])]);
+        }
+    }
+    Ok(SceneSet {
+        name: "Sponza",
+        tris,
+        eye: Vec3::new(-10.0, 3.0, 0.0),
+        target: Vec3::new(10.0, 5.0, 0.0),
+        fov: 70f32.to_radians(),
+    })
+}
+
+/// A latitude-longitude sphere of `2·n·(n/2)` triangles, radius 1 jittered by ±2 %, seen from
+/// outside.
+pub fn jittered_sphere(n: u32) -> SceneSet {
+    let h = |i: u32| {
+        let mut x = i.wrapping_mul(0x9E37_79B9) ^ 0x85EB_CA6B;
+        x ^= x >> 15;
+        x = x.wrapping_mul(0x2C1B_3C6D);
+        x ^= x >> 12;
+        (x & 0xFFFF) as f32 / 65535.0 - 0.5
+    };
+    let rows = n / 2;
+    let p = |i: u32, j: u32| {
+        let (th, ph) = (
+            std::f32::consts::PI * j as f32 / rows as f32,
+            std::f32::consts::TAU * (i % n) as f32 / n as f32,
+        );
+        let r = 1.0 + 0.04 * h(j * n + (i % n));
+        Vec3::new(th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin()) * r
+    };
+    let mut tris = Vec::with_capacity((2 * n * rows) as usize);
+    for j in 0..rows {
+        for i in 0..n {
+            let (a, b, c, d) = (p(i, j), p(i + 1, j), p(i + 1, j + 1), p(i, j + 1));
+            tris.push([a, b, c]);
+            tris.push([a, c, d]);
+        }
+    }
+    SceneSet {
+        name: "jittered sphere",
+        tris,
+        eye: Vec3::new(0.0, 0.3, 3.2),
+        target: Vec3::ZERO,
+        fov: 45f32.to_radians(),
+    }
+}
+
+impl SceneSet {
+    /// The pinhole ray through pixel (x, y) of a w×h image.
+    pub fn camera_ray(&self, x: u32, y: u32, w: u32, h: u32) -> Ray {
+        let fwd = (self.target - self.eye).normalize();
+        let right = fwd.cross(Vec3::Y).normalize();
+        let up = right.cross(fwd);
+        let half = (self.fov * 0.5).tan();
+        let aspect = w as f32 / h as f32;
+        let sx = ((x as f32 + 0.5) / w as f32 * 2.0 - 1.0) * half * aspect;
+        let sy = (1.0 - (y as f32 + 0.5) / h as f32 * 2.0) * half;
+        Ray::new(self.eye, fwd + right * sx + up * sy)
+    }
+
+    /// Primary rays in tiles of `tw`×`th` pixels (consecutive rays share a tile: coherent
+    /// packets of `tw·th`).
+    pub fn primary_tiled(&self, w: u32, h: u32, tw: u32, th: u32) -> Vec<Ray> {
+        let mut out = Vec::with_capacity((w * h) as usize);
+        for ty in (0..h).step_by(th as usize) {
+            for tx in (0..w).step_by(tw as usize) {
+                for y in ty..(ty + th).min(h) {
+                    for x in tx..(tx + tw).min(w) {
+                        out.push(self.camera_ray(x, y, w, h));
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The triangles in the watertight layout.
+    pub fn vertex_tris(&self) -> Vec<VertexTriangle> {
+        self.tris
+            .iter()
+            .map(|t| VertexTriangle::new(t[0], t[1], t[2]))
+            .collect()
+    }
+
+    /// One diffuse bounce per primary hit: from the hit point (offset off the surface) in a
+    /// cosine-weighted direction about the normal facing the ray (incoherent rays).
+    pub fn diffuse_bounces(&self, primary: &[Ray], bvh: &Bvh8<VertexTriangle>) -> Vec<Ray> {
+        let mut seed = 0x2545_F491_4F6C_DD1Du64;
+        let mut rnd = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut out = Vec::with_capacity(primary.len());
+        for r in primary {
+            let Some(h) = closest_hit::<f32x8, Watertight>(bvh.as_ref(), r) else {
+                continue;
+            };
+            let t = self.tris[h.prim as usize];
+            let (p, err) = octoray::core::offset::triangle_hit_point(
+                &VertexTriangle::new(t[0], t[1], t[2]),
+                h.u,
+                h.v,
+            );
+            let mut n = (t[1] - t[0]).cross(t[2] - t[0]).normalize_or_zero();
+            if n.dot(r.dir) > 0.0 {
+                n = -n;
+            }
+            // Cosine-weighted: n plus a uniform point on the unit sphere.
+            let z = rnd() * 2.0 - 1.0;
+            let a = rnd() * std::f32::consts::TAU;
+            let s = (1.0 - z * z).max(0.0).sqrt();
+            let d = n + Vec3::new(s * a.cos(), s * a.sin(), z);
+            if d.length_squared() < 1e-8 {
+                continue;
+            }
+            let o = octoray::core::offset::offset_ray_origin(p, err, n, d);
+            out.push(Ray::new(o, d));
+        }
+        out
+    }
+}
