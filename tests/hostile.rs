@@ -67,3 +67,114 @@ fn fast_tier_zero_area_triangle_is_a_miss() {
     );
     assert_eq!(fast_everywhere(&ray, &tri), [(false, false); 4]);
 }
+
+use octoray::core::kernel::{Standard, StandardCulled, Watertight};
+use octoray::core::query::closest_t;
+use octoray::VertexTriangle;
+
+/// `closest_t` and `closest_hit` of `K` over `prims` for one ray: (t bits from each, u and v bits).
+fn t_both<K: Kernel<f32x8>>(ray: &Ray, prims: &[K::Prim]) -> Option<(u32, u32, u32, u32)> {
+    let p = RayLanes::<f32x8>::load(&[*ray]);
+    let h = closest_hit::<f32x8, K>(&p, prims).lane(0)?;
+    let (m, t) = closest_t::<f32x8, K>(&p, prims);
+    assert_eq!(m.bitmask() & 1, 1);
+    Some((
+        h.t.to_bits(),
+        t.as_array()[0].to_bits(),
+        h.u.to_bits(),
+        h.v.to_bits(),
+    ))
+}
+
+#[test]
+fn closest_t_and_closest_hit_agree_on_the_sign_of_zero() {
+    // Two coplanar triangles of opposite winding at z = 0, the ray starting on them: one
+    // reported t = +0, the other −0, and the two queries kept different ones.
+    let v = Vec3::new;
+    let (a, b, c) = (v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.0, 1.0, 0.0));
+    let ray = Ray::new(v(0.2, 0.2, 0.0), v(0.0, 0.0, -1.0));
+    let packed = [PackedTriangle::new(a, b, c), PackedTriangle::new(a, c, b)];
+    let verts = [VertexTriangle::new(a, b, c), VertexTriangle::new(a, c, b)];
+    for got in [
+        t_both::<Standard>(&ray, &packed),
+        t_both::<Fast>(&ray, &packed),
+    ] {
+        let (t1, t2, ..) = got.expect("the ray starts on the triangles: a hit at t = 0");
+        assert_eq!((t1, t2), (0, 0), "t must be +0 from both queries");
+    }
+    // The watertight tier reports only hits provably in front of the origin (its contract), so
+    // it has no hit here to disagree about.
+    assert_eq!(t_both::<Watertight>(&ray, &verts), None);
+}
+
+#[test]
+fn barycentrics_are_never_negative_zero() {
+    // Rays aimed exactly at vertices and along edges, from both sides and both windings.
+    let v = Vec3::new;
+    let tri = [v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.0, 1.0, 0.0)];
+    let mut checked = 0;
+    for (i, w) in [[0, 1, 2], [0, 2, 1], [1, 2, 0], [2, 0, 1]]
+        .iter()
+        .enumerate()
+    {
+        let packed = [PackedTriangle::new(tri[w[0]], tri[w[1]], tri[w[2]])];
+        let verts = [VertexTriangle::new(tri[w[0]], tri[w[1]], tri[w[2]])];
+        for k in 0..=8 {
+            let s = k as f32 / 8.0;
+            for target in [v(s, 0.0, 0.0), v(0.0, s, 0.0), v(s, 1.0 - s, 0.0)] {
+                for z in [1.0f32, -1.0] {
+                    let ray = Ray::new(target + v(0.0, 0.0, z), v(0.0, 0.0, -z));
+                    for got in [
+                        t_both::<Standard>(&ray, &packed),
+                        t_both::<StandardCulled>(&ray, &packed),
+                        t_both::<Watertight>(&ray, &verts),
+                        t_both::<Fast>(&ray, &packed),
+                    ]
+                    .into_iter()
+                    .flatten()
+                    {
+                        assert_ne!(got.2, 0x8000_0000, "u = -0 (winding {i}, {ray:?})");
+                        assert_ne!(got.3, 0x8000_0000, "v = -0 (winding {i}, {ray:?})");
+                        checked += 1;
+                    }
+                }
+            }
+        }
+    }
+    assert!(checked > 200, "only {checked} hits checked");
+}
+
+#[cfg(feature = "sphere")]
+#[test]
+fn spawn_helpers_stay_finite_and_tiny_spheres_are_documented() {
+    use octoray::core::offset::{offset_ray_origin, sphere_hit_point};
+    use octoray::core::query::closest_hit as closest;
+    use octoray::core::StableSphere;
+    use octoray::PackedSphere;
+    let v = Vec3::new;
+    // A real hit on a sphere of radius 2e-19: |p − c|² underflowed in f32 and gave NaN points.
+    let (c, r) = (v(0.0, 0.0, 0.0), 2e-19f32);
+    let ray = Ray::new(v(0.0, 0.0, -1e-18), v(0.0, 0.0, 1.0));
+    let h = closest::<f32, StableSphere>(&RayLanes::single(&ray), &[PackedSphere::new(c, r)])
+        .lane(0)
+        .expect("a sphere of radius 2e-19 in range is hit");
+    let (p, err) = sphere_hit_point(&ray, h.t, c, r);
+    assert!(p.is_finite() && err.is_finite(), "{p:?} {err:?}");
+    assert!((p.z + r).abs() <= 1e-25, "{p:?}");
+    // The usable radius range.
+    assert!(PackedSphere::new(c, PackedSphere::MIN_RADIUS).radius_sq >= f32::MIN_POSITIVE);
+    assert!(PackedSphere::new(c, PackedSphere::MAX_RADIUS)
+        .radius_sq
+        .is_finite());
+    assert!(PackedSphere::new(c, 5e-20).radius_sq.is_nan());
+    assert!(PackedSphere::new(c, 2e19).radius_sq.is_nan());
+    // offset_ray_origin at ±f32::MAX stays finite.
+    let m = f32::MAX;
+    for (p, n) in [
+        (v(m, 0.0, 0.0), v(1.0, 0.0, 0.0)),
+        (v(-m, -m, m), v(-1.0, -1.0, 1.0)),
+    ] {
+        let o = offset_ray_origin(p, Vec3::splat(1e30), n, n);
+        assert!(o.is_finite(), "{p:?} -> {o:?}");
+    }
+}

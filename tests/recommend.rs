@@ -14,6 +14,7 @@ fn run(tier: TierChoice, ray: &Ray, tri: [Vec3; 3]) -> Option<Hit> {
         TierChoice::Standard => intersect::<f32, Standard>(ray, &packed),
         TierChoice::Watertight => intersect::<f32, Watertight>(ray, &verts),
         TierChoice::F64 => intersect::<f64, Standard>(ray, &packed),
+        TierChoice::WatertightF64 => intersect::<f64, Watertight>(ray, &verts),
     }
 }
 
@@ -67,7 +68,7 @@ fn recommendations_pass_their_extreme_case() {
         ),
     ];
     for (name, (ray, tri, spec), want) in cases {
-        let r = recommend(&spec);
+        let r = recommend(&spec).unwrap();
         println!("{name}: {r}");
         assert_eq!(r.tier, want, "{name}: {r}");
         assert!(r.meets_budget, "{name}: {r}");
@@ -85,10 +86,11 @@ fn recommendations_pass_their_extreme_case() {
 fn closed_meshes_get_the_watertight_tier_and_impossible_budgets_say_so() {
     let (_, _, mut spec) = case(0.0, 1.0);
     spec.closed_meshes = true;
-    assert_eq!(recommend(&spec).tier, TierChoice::Watertight);
+    assert_eq!(recommend(&spec).unwrap().tier, TierChoice::Watertight);
     spec.error_budget = 1e-30;
-    let r = recommend(&spec);
-    assert_eq!(r.tier, TierChoice::F64);
+    let r = recommend(&spec).unwrap();
+    // Closed meshes never get the (leaky) standard kernel, at any precision.
+    assert_eq!(r.tier, TierChoice::WatertightF64);
     assert!(!r.meets_budget);
     assert!(r.to_string().contains("no tier meets the budget"), "{r}");
 }
@@ -97,7 +99,7 @@ fn closed_meshes_get_the_watertight_tier_and_impossible_budgets_say_so() {
 fn features_lost_to_f32_input_quantization_are_reported_not_promised() {
     // A 1e-3 triangle at 1e6: the f32 vertices (spacing 1/16 there) collapse; no tier can hit it.
     let (ray, tri, spec) = case(1e6, 1e-3);
-    let r = recommend(&spec);
+    let r = recommend(&spec).unwrap();
     assert!(!r.meets_budget, "{r}");
     assert!(r.to_string().contains("translate the scene"), "{r}");
     assert_eq!(
@@ -105,4 +107,61 @@ fn features_lost_to_f32_input_quantization_are_reported_not_promised() {
         None,
         "the collapsed triangle really is lost"
     );
+}
+
+#[test]
+fn closed_meshes_far_from_the_origin_get_a_watertight_tier_at_f64() {
+    // Issue 11: a closed mesh at 1e6 with a budget of 8e-3 was answered "F64" (the standard
+    // kernel at f64, which leaks ~1 % of crack rays).
+    for (at, feature, budget) in [
+        (1e6f32, 8.0f32, 8e-3f32),
+        (1e5, 1.0, 1e-4),
+        (1e7, 100.0, 1e-1),
+    ] {
+        let (ray, tri, mut spec) = case(at, feature);
+        spec.closed_meshes = true;
+        spec.error_budget = budget;
+        let r = recommend(&spec).unwrap();
+        assert!(
+            matches!(r.tier, TierChoice::Watertight | TierChoice::WatertightF64),
+            "{r}"
+        );
+        assert!(
+            run(r.tier, &ray, tri).is_some(),
+            "{r}: the recommended tier missed"
+        );
+        spec.closed_meshes = false;
+        assert_ne!(recommend(&spec).unwrap().tier, TierChoice::WatertightF64);
+    }
+}
+
+#[test]
+fn invalid_scene_descriptions_are_errors() {
+    use octoray::core::recommend::SpecError;
+    let (_, _, good) = case(0.0, 1.0);
+    let mut s = good;
+    s.bounds_min.x = f32::NAN;
+    assert_eq!(recommend(&s), Err(SpecError::NonFiniteBounds));
+    let mut s = good;
+    s.bounds_max.y = f32::INFINITY;
+    s.error_budget = f32::INFINITY;
+    assert_eq!(recommend(&s), Err(SpecError::NonFiniteBounds));
+    let mut s = good;
+    std::mem::swap(&mut s.bounds_min, &mut s.bounds_max);
+    s.bounds_min.x += 1.0;
+    assert_eq!(recommend(&s), Err(SpecError::InvertedBounds));
+    for f in [0.0, -0.0, -1.0, f32::NAN, f32::INFINITY] {
+        let mut s = good;
+        s.smallest_feature = f;
+        assert!(
+            matches!(recommend(&s), Err(SpecError::BadFeature(_))),
+            "{f}"
+        );
+    }
+    for b in [0.0, -1.0, f32::NAN, f32::INFINITY] {
+        let mut s = good;
+        s.error_budget = b;
+        assert!(matches!(recommend(&s), Err(SpecError::BadBudget(_))), "{b}");
+        assert!(recommend(&s).unwrap_err().to_string().contains("budget"));
+    }
 }

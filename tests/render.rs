@@ -100,7 +100,7 @@ fn known_pixels_are_hit_missed_and_shadowed_as_the_geometry_dictates() {
 #[test]
 fn the_auto_tier_is_explained() {
     let s = Scene::default_scene();
-    let (tier, why) = resolve_tier(&s, TierArg::Auto);
+    let (tier, _, why) = resolve_tier(&s, TierArg::Auto, 8).unwrap();
     assert_eq!(tier, TierArg::Watertight, "{why}");
     assert!(why.contains("closed meshes"), "{why}");
 }
@@ -166,4 +166,118 @@ fn bad_options_get_clear_messages() {
         .err()
         .unwrap()
         .contains("4 or 8 lanes"));
+}
+
+/// Writes `text` to a fresh OBJ file in a per-test folder.
+fn obj(name: &str, text: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("octoray-hostile-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+const TETRA_FACES: &str = "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+
+#[test]
+fn meshes_that_cannot_be_placed_are_errors_and_extreme_ones_are_placed() {
+    // Issue 13, finding 4: these rendered as an empty picture with exit 0.
+    for (name, verts) in [
+        ("inf.obj", "v 0 0 0\nv inf 0 0\nv 0 1 0\nv 0 0 1\n"),
+        ("nan-last.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 nan\n"),
+    ] {
+        let err = cli::load_scene(&Some(obj(name, &format!("{verts}{TETRA_FACES}"))))
+            .err()
+            .unwrap_or_else(|| panic!("{name} must be an error"));
+        assert!(err.contains("not finite"), "{name}: {err}");
+    }
+    // Huge (2e19, 3e38) and tiny (1e-40) coordinates are placed into the unit ball and seen.
+    for (name, s) in [
+        ("huge.obj", "2e19"),
+        ("max.obj", "3e38"),
+        ("tiny.obj", "1e-40"),
+    ] {
+        let text = format!("v 0 0 0\nv {s} 0 0\nv 0 {s} 0\nv 0 0 {s}\n{TETRA_FACES}");
+        let sc = cli::load_scene(&Some(obj(name, &text))).unwrap();
+        let r = sc.tris[..sc.mesh_tris]
+            .iter()
+            .flat_map(|t| t.iter())
+            .map(|p| (*p - octoray::glam::Vec3::Y).length())
+            .fold(0.0f32, f32::max);
+        assert!((0.5..=1.01).contains(&r), "{name}: placed at radius {r}");
+        let img = render(&sc, TierArg::Watertight, 8, 40, 25, &|_| {}).unwrap();
+        assert!(
+            img.kinds
+                .iter()
+                .any(|k| matches!(k, PixelKind::Mesh { .. })),
+            "{name}: the mesh is visible"
+        );
+    }
+}
+
+#[test]
+fn degenerate_faces_are_counted_and_left_out_of_the_tier_estimate() {
+    // Issue 13, finding 5: one `f 1 1 2` made the smallest feature 0, so auto picked f64 and
+    // `--tier auto --lanes 16` failed.
+    let text = format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n{TETRA_FACES}f 1 1 2\n");
+    let sc = cli::load_scene(&Some(obj("degenerate.obj", &text))).unwrap();
+    assert_eq!(sc.degenerate_triangles(), 1);
+    let (tier, lanes, why) = resolve_tier(&sc, TierArg::Auto, 16).unwrap();
+    assert_eq!((tier, lanes), (TierArg::Watertight, 16), "{why}");
+    render(&sc, tier, lanes, 16, 10, &|_| {}).unwrap();
+}
+
+#[test]
+fn the_output_is_checked_before_tracing_and_never_overwrites_the_input() {
+    // Issue 13, finding 6.
+    let args = |s: String| s.split_whitespace().map(String::from).collect::<Vec<_>>();
+    let mesh = obj(
+        "keep.obj",
+        &format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n{TETRA_FACES}"),
+    );
+    let before = std::fs::read(&mesh).unwrap();
+    let o = cli::parse(&args(format!("--obj {0} --output {0}", mesh.display()))).unwrap();
+    let (code, msg) = cli::open_output(&o).unwrap_err();
+    assert_eq!(code, 2);
+    assert!(msg.contains("input mesh"), "{msg}");
+    assert_eq!(
+        std::fs::read(&mesh).unwrap(),
+        before,
+        "the mesh is untouched"
+    );
+    let o = cli::parse(&args("--output /nonexistent-dir/x.png".into())).unwrap();
+    let (code, msg) = cli::open_output(&o).unwrap_err();
+    assert_eq!(code, 1);
+    assert!(msg.contains("cannot create"), "{msg}");
+}
+
+#[test]
+fn camera_options_parse_and_keep_the_mesh_in_place() {
+    let args = |s: String| s.split_whitespace().map(String::from).collect::<Vec<_>>();
+    let mesh = obj(
+        "place.obj",
+        &format!("v 5 5 5\nv 6 5 5\nv 5 6 5\nv 5 5 6\n{TETRA_FACES}"),
+    );
+    let o = cli::parse(&args(format!(
+        "--obj {} --camera 5.2,5.2,9 --look-at 5.2,5.2,5 --fov 30",
+        mesh.display()
+    )))
+    .unwrap();
+    let sc = cli::scene_for(&o).unwrap();
+    assert_eq!(
+        sc.tris[0][0],
+        octoray::glam::Vec3::splat(5.0),
+        "kept at its own coordinates"
+    );
+    let img = render(&sc, TierArg::Watertight, 8, 20, 20, &|_| {}).unwrap();
+    assert!(matches!(img.kinds[10 * 20 + 10], PixelKind::Mesh { .. }));
+    for (bad, says) in [
+        ("--camera 1,2", "X,Y,Z"),
+        ("--camera 1,2,nan", "finite"),
+        ("--fov 0", "outside"),
+        ("--camera 1,1,1 --look-at 1,1,1", "same point"),
+    ] {
+        let err = cli::parse(&args(bad.into())).err().unwrap();
+        assert!(err.contains(says), "{bad}: {err}");
+    }
 }

@@ -52,3 +52,32 @@ fn watertight_tier_has_no_cracks_million_rays() {
     assert_eq!(total, 1_000_000);
     assert_eq!(wt, 0);
 }
+
+#[test]
+fn f64_watertight_tier_has_no_cracks_and_exact_zero_signs() {
+    use common::mesh::crack_suite_with;
+    use octoray::core::kernel::Watertight;
+    use octoray::core::query::any_hit;
+    use octoray::core::{LaneMask, RayLanes, Scalar};
+    use wide::f64x4;
+    // The crack suite at f64 lanes (issue 11): zero escapes.
+    let rows = crack_suite_with(2_500, |tris, rays| {
+        rays.chunks(4)
+            .map(|c| {
+                let hit = any_hit::<f64x4, Watertight>(&RayLanes::load(c), tris).bitmask();
+                c.len() - hit.count_ones() as usize
+            })
+            .sum()
+    });
+    for (mesh, rays, escapes) in &rows {
+        println!("f64 watertight, {mesh}: {rays} rays, {escapes} escapes");
+        assert_eq!(*escapes, 0, "{mesh}");
+    }
+    // The f64 zero-edge fallback's sign is exact: products that differ in the last bits.
+    let e = f64::EPSILON;
+    let d = |a: f64, b: f64, c: f64, dd: f64| f64::diff_of_products_wide(a, b, c, dd);
+    assert_eq!(d(1.0 + e, 1.0 - e, 1.0, 1.0).signum(), -1.0); // 1 − ε² < 1
+    assert!(d(1.0 + e, 1.0 - e, 1.0, 1.0) != 0.0);
+    assert_eq!(d(3.0, 5.0, 5.0, 3.0), 0.0);
+    assert_eq!(d(1.0 + e, 1.0 + e, 1.0, 1.0 + 2.0 * e).signum(), 1.0); // ε² > 0
+}

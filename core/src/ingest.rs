@@ -118,6 +118,13 @@ fn for_each_triangle(
     Ok(())
 }
 
+/// Checks an indexed mesh without writing anything: the index count is a multiple of 3 and every
+/// index is in range (the errors the `pack_*` functions would return).
+#[cfg(feature = "triangle")]
+pub fn check_mesh(positions: &[[f32; 3]], indices: &[u32]) -> Result<(), IngestError> {
+    for_each_triangle(positions, indices, indices.len() / 3, |_, _, _, _| {})
+}
+
 /// Packs an indexed mesh for the standard and fast tiers (`v0, e1, e2`), one entry per index
 /// triple. On error the entries before the first bad triangle have been written: treat `out` as
 /// unspecified.
@@ -178,6 +185,8 @@ pub fn pack_triangles_vec(
     positions: &[[f32; 3]],
     indices: &[u32],
 ) -> Result<alloc::vec::Vec<PackedTriangle>, IngestError> {
+    // Validate before allocating: a bad mesh costs no memory.
+    check_mesh(positions, indices)?;
     let mut out = alloc::vec![PackedTriangle::default(); indices.len() / 3];
     pack_triangles(positions, indices, &mut out)?;
     Ok(out)
@@ -189,6 +198,8 @@ pub fn pack_vertex_triangles_vec(
     positions: &[[f32; 3]],
     indices: &[u32],
 ) -> Result<alloc::vec::Vec<VertexTriangle>, IngestError> {
+    // Validate before allocating: a bad mesh costs no memory.
+    check_mesh(positions, indices)?;
     let mut out = alloc::vec![VertexTriangle::default(); indices.len() / 3];
     pack_vertex_triangles(positions, indices, &mut out)?;
     Ok(out)
@@ -200,6 +211,12 @@ pub fn pack_spheres_vec(
     centers: &[[f32; 3]],
     radii: &[f32],
 ) -> Result<alloc::vec::Vec<PackedSphere>, IngestError> {
+    if centers.len() != radii.len() {
+        return Err(IngestError::SphereSlicesDiffer {
+            centers: centers.len(),
+            radii: radii.len(),
+        });
+    }
     let mut out = alloc::vec![PackedSphere::default(); centers.len()];
     pack_spheres(centers, radii, &mut out)?;
     Ok(out)

@@ -64,11 +64,18 @@ impl<L: Lanes> LanesHit<L> {
     }
 
     /// The barycentric weights of `v1` and `v2`: `(u/scale, v/scale)`, one correctly rounded
-    /// division each.
+    /// division each, with −0 made +0.
     #[inline(always)]
     pub fn barycentrics(&self) -> (L, L) {
-        (self.u / self.scale, self.v / self.scale)
+        barycentrics(self.u, self.v, self.scale)
     }
+}
+
+/// `(u/scale + 0, v/scale + 0)`: the barycentrics every query reports (one correctly rounded
+/// division each; `+ 0` makes −0 into +0, the one canonical zero, and changes nothing else).
+#[inline(always)]
+pub fn barycentrics<L: Lanes>(u: L, v: L, scale: L) -> (L, L) {
+    (u / scale + L::zero(), v / scale + L::zero())
 }
 
 /// A ray-primitive test at lane width `L`.
@@ -195,7 +202,8 @@ pub(crate) fn nearest_root_in_range<L: Lanes>(
     let far_ok = t_in_range(ray, far);
     LanesHit {
         mask: mask & (near_ok | far_ok),
-        t: L::select(near_ok, near, far),
+        // `+ 0`: the canonical zero (−0 becomes +0).
+        t: L::select(near_ok, near, far) + L::zero(),
         u: L::zero(),
         v: L::zero(),
         scale: L::splat(1.0),

@@ -59,7 +59,7 @@ pub trait Scalar:
     /// Unit roundoff `u` (2⁻²⁴ for f32, 2⁻⁵³ for f64): every basic operation's relative error.
     const UNIT_ROUNDOFF: f64;
     /// `a·b − c·d` with the sign exact: for f32 computed in f64 (the products are exact there,
-    /// the difference rounds once) and rounded back; for f64 the plain expression.
+    /// the difference rounds once) and rounded back; for f64 by Kahan's algorithm on `fma`.
     fn diff_of_products_wide(a: Self, b: Self, c: Self, d: Self) -> Self;
 }
 
@@ -105,9 +105,18 @@ impl Scalar for f64 {
         x
     }
     const UNIT_ROUNDOFF: f64 = 1.0 / 9_007_199_254_740_992.0;
+    /// Kahan's algorithm with a correctly rounded `fma` (`libm::fma`, software, so the same bits
+    /// on every build): `w = c·d`, `e = c·d − w` exactly, `f = a·b − w` rounded once, then
+    /// `f − e`, whose relative error is at most 2u (Jeannerod, Louvet & Muller 2013), so its sign
+    /// is the exact sign of `a·b − c·d` (0 exactly when the products are equal) — as long as no
+    /// product under- or overflows (|products| between ~1e-290 and ~1e308, which f32-derived
+    /// coordinates never leave).
     #[inline(always)]
     fn diff_of_products_wide(a: f64, b: f64, c: f64, d: f64) -> f64 {
-        a * b - c * d
+        let w = c * d;
+        let e = libm::fma(c, d, -w);
+        let f = libm::fma(a, b, -w);
+        f - e
     }
 }
 

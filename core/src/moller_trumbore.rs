@@ -82,7 +82,8 @@ pub fn intersect_with<L: Lanes, const CULL: bool>(
     // Divide only when some lane is kept, and only t: the barycentrics stay numerators over det
     // until a query has picked its closest hit. The scaled range test above rounds t_max·|det|,
     // so the authoritative range and finiteness check is made on the divided t.
-    let t = t_num / det;
+    // `+ 0` maps −0 to +0 (and nothing else): one canonical zero for every query.
+    let t = t_num / det + zero;
     mask = mask & t_in_range(ray, t);
     LanesHit {
         mask,

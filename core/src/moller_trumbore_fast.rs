@@ -76,7 +76,7 @@ pub fn intersect_lanes<L: FastLanes>(ray: &RayLanes<L>, tri: &EdgeLanes<L>) -> L
     }
     let q = cross(s, e1);
     let v = dot(ray.dir, q) * inv;
-    let t = dot(e2, q) * inv;
+    let t = dot(e2, q) * inv + zero;
     mask = mask & v.ge(zero) & (u + v).le(one) & t_in_range(ray, t);
     LanesHit {
         mask,

@@ -26,7 +26,21 @@ fn gamma(n: f32) -> f32 {
 #[cfg(feature = "sphere")]
 pub fn sphere_hit_point(ray: &crate::ray::Ray, t: f32, center: Vec3, radius: f32) -> (Vec3, Vec3) {
     let p = ray.at(t);
-    let p = center + (p - center) * (radius / (p - center).length());
+    // In f64: |p − c|² of a tiny sphere (r ≲ 1e-19) underflows in f32 and would give NaN.
+    let (pd, cd) = (
+        p.to_array().map(f64::from),
+        center.to_array().map(f64::from),
+    );
+    let diff: [f64; 3] = core::array::from_fn(|k| pd[k] - cd[k]);
+    let len = libm::sqrt(diff[0] * diff[0] + diff[1] * diff[1] + diff[2] * diff[2]);
+    let s = f64::from(radius) / len;
+    let q: [f64; 3] = core::array::from_fn(|k| cd[k] + diff[k] * s);
+    // Re-project only where that is a finite point (not for p == c or a non-finite input).
+    let p = if len > 0.0 && q.iter().all(|x| (*x as f32).is_finite()) {
+        Vec3::new(q[0] as f32, q[1] as f32, q[2] as f32)
+    } else {
+        p
+    };
     let err = (p.abs() + center.abs() + Vec3::splat(radius)) * gamma(8.0);
     (p, err)
 }
@@ -91,6 +105,11 @@ pub fn offset_ray_origin(p: Vec3, p_error: Vec3, n: Vec3, w: Vec3) -> Vec3 {
             po[i] = next_up(po[i]);
         } else if offset[i] < 0.0 {
             po[i] = next_down(po[i]);
+        }
+        // A point at ±f32::MAX pushed further would become infinite: stay finite where the input
+        // is (such a point cannot be moved off the surface in f32 anyway).
+        if p[i].is_finite() && !po[i].is_finite() {
+            po[i] = p[i];
         }
     }
     po

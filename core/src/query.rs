@@ -113,8 +113,7 @@ pub fn closest_hit<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim])
     }
     best.t = ray.t_max;
     // The barycentrics were carried as numerators: one division for the winner.
-    best.u = best.u / scale;
-    best.v = best.v / scale;
+    (best.u, best.v) = crate::kernel::barycentrics(best.u, best.v, scale);
     best
 }
 

@@ -183,11 +183,14 @@ pub struct PackedSphere {
 
 #[cfg(feature = "sphere")]
 impl PackedSphere {
-    /// Packs a sphere. A radius that is not finite and `> 0`, or whose square overflows, is stored
-    /// as `radius_sq = NaN`, which every kernel treats as a miss.
+    /// Packs a sphere. Usable radii are those whose square is a normal, finite f32: from
+    /// [`PackedSphere::MIN_RADIUS`] (≈ 1.08e-19) to [`PackedSphere::MAX_RADIUS`] (≈ 1.84e19). A
+    /// radius outside that range, not finite, or not `> 0` is stored as `radius_sq = NaN`, which
+    /// every kernel treats as a miss (below the range r² would be 0 or subnormal: a sphere that
+    /// silently shrinks or vanishes).
     pub fn new(center: Vec3, radius: f32) -> Self {
         let r2 = radius * radius;
-        let radius_sq = if radius > 0.0 && r2.is_finite() {
+        let radius_sq = if radius > 0.0 && r2.is_finite() && r2 >= f32::MIN_POSITIVE {
             r2
         } else {
             f32::NAN
@@ -197,6 +200,14 @@ impl PackedSphere {
             radius_sq,
         }
     }
+}
+
+#[cfg(feature = "sphere")]
+impl PackedSphere {
+    /// The smallest radius whose square is a normal f32 (`√f32::MIN_POSITIVE`, rounded up).
+    pub const MIN_RADIUS: f32 = 1.084_202_2e-19;
+    /// The largest radius whose square is finite (`√f32::MAX`, rounded down).
+    pub const MAX_RADIUS: f32 = 1.844_674_3e19;
 }
 
 #[cfg(feature = "sphere")]

@@ -63,8 +63,10 @@ pub enum TierChoice {
     Standard,
     /// [`crate::kernel::Watertight`].
     Watertight,
-    /// The standard kernel at f64 lanes.
+    /// The standard kernel at f64 lanes (not watertight: never chosen for closed meshes).
     F64,
+    /// The watertight kernel at f64 lanes: closed meshes that need f64.
+    WatertightF64,
 }
 
 impl TierChoice {
@@ -74,6 +76,7 @@ impl TierChoice {
             Self::Standard => "standard",
             Self::Watertight => "watertight",
             Self::F64 => "f64",
+            Self::WatertightF64 => "watertight-f64",
         }
     }
 }
@@ -111,8 +114,50 @@ enum Why {
 const EPS32: f32 = f32::EPSILON / 2.0;
 const EPS64: f64 = f64::EPSILON / 2.0;
 
-/// Recommends a tier for `spec`.
-pub fn recommend(spec: &SceneSpec) -> Recommendation {
+/// Why a [`SceneSpec`] cannot be answered.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SpecError {
+    /// A bound is NaN or infinite.
+    NonFiniteBounds,
+    /// `bounds_min` exceeds `bounds_max` on some axis.
+    InvertedBounds,
+    /// The smallest feature is not finite and `> 0`.
+    BadFeature(f32),
+    /// The error budget is not finite and `> 0`.
+    BadBudget(f32),
+}
+
+impl fmt::Display for SpecError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::NonFiniteBounds => write!(f, "the scene bounds are not finite"),
+            Self::InvertedBounds => write!(f, "bounds_min exceeds bounds_max"),
+            Self::BadFeature(x) => {
+                write!(f, "the smallest feature must be finite and > 0, not {x}")
+            }
+            Self::BadBudget(x) => write!(f, "the error budget must be finite and > 0, not {x}"),
+        }
+    }
+}
+
+impl core::error::Error for SpecError {}
+
+/// Recommends a tier for `spec`, or says why the description is not a scene (NaN or infinite
+/// bounds, inverted bounds, a smallest feature or budget that is not finite and positive).
+pub fn recommend(spec: &SceneSpec) -> Result<Recommendation, SpecError> {
+    if !(spec.bounds_min.is_finite() && spec.bounds_max.is_finite()) {
+        return Err(SpecError::NonFiniteBounds);
+    }
+    if spec.bounds_min.cmpgt(spec.bounds_max).any() {
+        return Err(SpecError::InvertedBounds);
+    }
+    let feature_ok = spec.smallest_feature > 0.0 && spec.smallest_feature.is_finite();
+    if !feature_ok {
+        return Err(SpecError::BadFeature(spec.smallest_feature));
+    }
+    if !(spec.error_budget > 0.0 && spec.error_budget.is_finite()) {
+        return Err(SpecError::BadBudget(spec.error_budget));
+    }
     let extent = spec
         .bounds_min
         .abs()
@@ -129,8 +174,14 @@ pub fn recommend(spec: &SceneSpec) -> Recommendation {
     let standard_range = scale <= 1e12 && s >= 1e-12;
     let watertight_range = scale <= 1e18 && s >= 1e-18;
     let representable = s >= 16.0 * (2.0 * EPS32 * extent);
+    // Closed meshes need a watertight kernel at every precision.
+    let f64_tier = if spec.closed_meshes {
+        TierChoice::WatertightF64
+    } else {
+        TierChoice::F64
+    };
     let (tier, meets, why) = if !representable {
-        (TierChoice::F64, false, Why::InputQuantization)
+        (f64_tier, false, Why::InputQuantization)
     } else if f32_fits && standard_range && !spec.closed_meshes {
         (TierChoice::Standard, true, Why::StandardFits)
     } else if f32_fits && watertight_range {
@@ -143,12 +194,12 @@ pub fn recommend(spec: &SceneSpec) -> Recommendation {
     } else {
         let fits = f64_error <= spec.error_budget && f64_band <= s / 4.0;
         (
-            TierChoice::F64,
+            f64_tier,
             fits,
             if fits { Why::F32Error } else { Why::NoneFits },
         )
     };
-    Recommendation {
+    Ok(Recommendation {
         tier,
         meets_budget: meets,
         scale,
@@ -157,7 +208,7 @@ pub fn recommend(spec: &SceneSpec) -> Recommendation {
         extent,
         smallest_feature: s,
         why,
-    }
+    })
 }
 
 impl fmt::Display for Recommendation {

@@ -197,7 +197,8 @@ pub fn intersect_sheared_with<L: Lanes, const CULL: bool>(
         return LanesHit::miss(mask);
     }
 
-    let t = t_num / det;
+    // `+ 0` maps −0 to +0 (and nothing else): one canonical zero for every query.
+    let t = t_num / det + zero;
     // Is the hit provably in front of the origin? Two sufficient conditions; a hit is kept if
     // either holds.
     //

@@ -5,7 +5,7 @@ use crate::scene::{Scene, TierArg};
 use octoray::glam::Vec3;
 use std::path::PathBuf;
 
-pub const USAGE: &str = "usage: render [--size WxH] [--output PATH] [--tier auto|standard|watertight|fast|f64] [--lanes 4|8|16] [--obj PATH] [--camera X,Y,Z] [--look-at X,Y,Z] [--fov DEGREES]\n  --obj alone fits the mesh into the default scene; with --camera the mesh stays where it is (no ground quad) and the camera looks from X,Y,Z";
+pub const USAGE: &str = "usage: render [--size WxH] [--output PATH] [--tier auto|standard|watertight|fast|f64|watertight-f64] [--lanes 4|8|16] [--obj PATH] [--camera X,Y,Z] [--look-at X,Y,Z] [--fov DEGREES]\n  --obj alone fits the mesh into the default scene; with --camera the mesh stays where it is (no ground quad) and the camera looks from X,Y,Z";
 
 pub struct Options {
     pub width: u32,
@@ -73,7 +73,7 @@ pub fn parse(args: &[String]) -> Result<Options, String> {
             "--tier" => {
                 let v = value("--tier")?;
                 o.tier = TierArg::parse(&v).ok_or(format!(
-                    "--tier: unknown tier '{v}' (auto, standard, watertight, fast, f64)"
+                    "--tier: unknown tier '{v}' (auto, standard, watertight, fast, f64, watertight-f64)"
                 ))?;
             }
             "--lanes" => {
@@ -153,7 +153,21 @@ fn load_mesh(path: &std::path::Path) -> Result<(Vec<[f32; 3]>, Vec<u32>), String
     // Merge every model into one indexed mesh.
     let (mut positions, mut indices) = (Vec::<[f32; 3]>::new(), Vec::<u32>::new());
     for m in &models {
-        let base = positions.len() as u32;
+        // Indices are u32: a mesh past u32::MAX vertices cannot be addressed.
+        let Ok(base) = u32::try_from(positions.len()) else {
+            return Err(format!(
+                "{} has more than {} vertices",
+                path.display(),
+                u32::MAX
+            ));
+        };
+        if m.mesh.positions.len() / 3 > (u32::MAX - base) as usize {
+            return Err(format!(
+                "{} has more than {} vertices",
+                path.display(),
+                u32::MAX
+            ));
+        }
         let p = octoray::core::ingest::positions_from_flat(&m.mesh.positions)
             .map_err(|e| format!("{}: {e}", path.display()))?;
         positions.extend_from_slice(p);
@@ -163,4 +177,35 @@ fn load_mesh(path: &std::path::Path) -> Result<(Vec<[f32; 3]>, Vec<u32>), String
         return Err(format!("{} has no faces", path.display()));
     }
     Ok((positions, indices))
+}
+
+/// Do two paths name the same file (the second may not exist yet)?
+pub fn same_file(a: &std::path::Path, b: &std::path::Path) -> bool {
+    let canon = |p: &std::path::Path| {
+        p.canonicalize().ok().or_else(|| {
+            let parent = p.parent().filter(|d| !d.as_os_str().is_empty());
+            let dir =
+                parent.map_or_else(|| std::env::current_dir().ok(), |d| d.canonicalize().ok())?;
+            Some(dir.join(p.file_name()?))
+        })
+    };
+    matches!((canon(a), canon(b)), (Some(x), Some(y)) if x == y)
+}
+
+/// Creates the output file before anything is traced: an unwritable path fails now (exit 1),
+/// not after a long render, and the input mesh is never overwritten (exit 2).
+pub fn open_output(o: &Options) -> Result<std::fs::File, (u8, String)> {
+    if let Some(obj) = &o.obj {
+        if same_file(obj, &o.output) {
+            return Err((
+                2,
+                format!(
+                    "--output {} is the input mesh; choose another path",
+                    o.output.display()
+                ),
+            ));
+        }
+    }
+    std::fs::File::create(&o.output)
+        .map_err(|e| (1, format!("cannot create {}: {e}", o.output.display())))
 }

@@ -47,13 +47,27 @@ fn main() -> ExitCode {
             return ExitCode::from(1);
         }
     };
-    let (tier, why) = resolve_tier(&scene, o.tier);
+    let (tier, lanes, why) = match resolve_tier(&scene, o.tier, o.lanes) {
+        Ok(t) => t,
+        Err(msg) => {
+            eprintln!("render: {msg}");
+            return ExitCode::from(1);
+        }
+    };
+    // The output is checked before tracing (see `cli::open_output`).
+    let out_file = match cli::open_output(&o) {
+        Ok(f) => f,
+        Err((code, msg)) => {
+            eprintln!("render: {msg}");
+            return ExitCode::from(code);
+        }
+    };
     let bar = ProgressBar::new(u64::from(o.height));
     bar.set_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} rows {elapsed}").expect("template"),
     );
     let start = Instant::now();
-    let img = match render(&scene, tier, o.lanes, o.width, o.height, &|n| bar.inc(n)) {
+    let img = match render(&scene, tier, lanes, o.width, o.height, &|n| bar.inc(n)) {
         Ok(img) => img,
         Err(msg) => {
             bar.abandon();
@@ -63,15 +77,23 @@ fn main() -> ExitCode {
     };
     let secs = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
-    if let Err(msg) = write_png(&img, &o.output) {
+    if let Err(msg) = write_png(&img, out_file, &o.output) {
         eprintln!("render: {msg}");
         return ExitCode::from(1);
     }
     println!("octoray render: {}", o.output.display());
     println!("  resolution   {}x{}", o.width, o.height);
+    let degenerate = scene.degenerate_triangles();
     println!(
-        "  scene        {} triangles, {} spheres{}",
+        "  scene        {} triangles{}, {} spheres{}",
         scene.tris.len(),
+        if degenerate > 0 {
+            format!(
+                " ({degenerate} degenerate: zero area, never hit, left out of the tier estimate)"
+            )
+        } else {
+            String::new()
+        },
         scene.spheres.len(),
         o.obj
             .as_ref()
@@ -91,7 +113,7 @@ fn main() -> ExitCode {
     println!(
         "  tier         {} with {} lanes ({})",
         tier.name(),
-        o.lanes,
+        lanes,
         why
     );
     println!("  build        {}", flags());

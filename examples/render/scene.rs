@@ -11,7 +11,7 @@ use octoray::core::prim::Primitive;
 use octoray::core::query::{any_hit, closest_hit};
 use octoray::core::recommend::{recommend, Recommendation, SceneSpec, TierChoice};
 use octoray::core::{LaneMask, Lanes, RayLanes};
-use octoray::glam::Vec3;
+use octoray::glam::{DVec3, Vec3};
 use octoray::packet::{f32x16, f32x4, f32x8};
 use octoray::{Hit, PackedSphere, PackedTriangle, Ray, VertexTriangle};
 use rayon::prelude::*;
@@ -26,6 +26,7 @@ pub enum TierArg {
     Watertight,
     Fast,
     F64,
+    WatertightF64,
 }
 
 impl TierArg {
@@ -36,6 +37,7 @@ impl TierArg {
             "watertight" => Self::Watertight,
             "fast" => Self::Fast,
             "f64" => Self::F64,
+            "watertight-f64" => Self::WatertightF64,
             _ => return None,
         })
     }
@@ -46,6 +48,7 @@ impl TierArg {
             Self::Watertight => "watertight",
             Self::Fast => "fast",
             Self::F64 => "f64",
+            Self::WatertightF64 => "watertight-f64",
         }
     }
 }
@@ -99,11 +102,8 @@ impl Scene {
 
     /// A mesh at its own coordinates (no ground quad), the default scene's spheres and sun,
     /// and a camera at the mesh's bounding-box centre (set it with `eye`/`target`).
-    pub fn with_mesh_in_place(
-        positions: &[[f32; 3]],
-        indices: &[u32],
-    ) -> Result<Self, ingest::IngestError> {
-        let verts = ingest::pack_vertex_triangles_vec(positions, indices)?;
+    pub fn with_mesh_in_place(positions: &[[f32; 3]], indices: &[u32]) -> Result<Self, String> {
+        let verts = checked_mesh(positions, indices)?;
         let mut s = Self::default_scene();
         s.tris = verts
             .iter()
@@ -116,16 +116,26 @@ impl Scene {
 
     /// The default scene with the icosphere replaced by `positions`/`indices`, fitted into the
     /// same unit ball at (0, 1, 0).
-    pub fn with_mesh(positions: &[[f32; 3]], indices: &[u32]) -> Result<Self, ingest::IngestError> {
-        // Validate through the library's ingest (bad indices are an error, not a panic).
-        let verts = ingest::pack_vertex_triangles_vec(positions, indices)?;
-        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-        for p in positions {
-            lo = lo.min(Vec3::from(*p));
-            hi = hi.max(Vec3::from(*p));
+    pub fn with_mesh(positions: &[[f32; 3]], indices: &[u32]) -> Result<Self, String> {
+        let verts = checked_mesh(positions, indices)?;
+        // Bounds, centre and radius in f64: coordinates near f32::MAX or 1e-40 neither overflow
+        // nor underflow the fit.
+        let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+        for t in &verts {
+            for p in [t.v0, t.v1, t.v2] {
+                let p = Vec3::from(p).as_dvec3();
+                lo = lo.min(p);
+                hi = hi.max(p);
+            }
         }
-        let (center, radius) = ((lo + hi) * 0.5, ((hi - lo) * 0.5).length().max(1e-30));
-        let place = |p: [f32; 3]| (Vec3::from(p) - center) / radius + Vec3::new(0.0, 1.0, 0.0);
+        let (center, radius) = ((lo + hi) * 0.5, ((hi - lo) * 0.5).length());
+        // Finite vertices give a finite radius; 0 means a single point.
+        if radius <= 0.0 {
+            return Err("the mesh has no extent (every vertex is the same point)".into());
+        }
+        let place = |p: [f32; 3]| {
+            ((Vec3::from(p).as_dvec3() - center) / radius + DVec3::new(0.0, 1.0, 0.0)).as_vec3()
+        };
         let mut tris: Vec<[Vec3; 3]> = verts
             .iter()
             .map(|t| [place(t.v0), place(t.v1), place(t.v2)])
@@ -194,17 +204,27 @@ impl Scene {
             .then_some((x as u32, y as u32))
     }
 
+    /// Triangles with zero area (a repeated vertex, or collinear): they can never be hit.
+    pub fn degenerate_triangles(&self) -> usize {
+        self.tris.iter().filter(|t| is_degenerate(t)).count()
+    }
+
     /// The recommender's tier for this scene: bounds over the geometry and the camera, the
-    /// smallest edge or radius as the smallest feature, a tenth of a pixel's footprint at the
-    /// target as the budget (at 640 px), closed meshes (the mesh must not leak light).
-    pub fn recommendation(&self) -> Recommendation {
+    /// smallest edge or radius as the smallest feature (degenerate triangles left out: they are
+    /// never hit), a tenth of a pixel's footprint at the target as the budget (at 640 px),
+    /// closed meshes (the mesh must not leak light).
+    pub fn recommendation(&self) -> Result<Recommendation, String> {
         let (mut lo, mut hi) = (self.eye, self.eye);
         let mut smallest = f32::INFINITY;
         for t in &self.tris {
-            for k in 0..3 {
-                lo = lo.min(t[k]);
-                hi = hi.max(t[k]);
-                smallest = smallest.min((t[(k + 1) % 3] - t[k]).length());
+            for p in t {
+                lo = lo.min(*p);
+                hi = hi.max(*p);
+            }
+            if !is_degenerate(t) {
+                for k in 0..3 {
+                    smallest = smallest.min((t[(k + 1) % 3] - t[k]).length());
+                }
             }
         }
         for &(c, r) in &self.spheres {
@@ -220,7 +240,30 @@ impl Scene {
             error_budget: footprint * 0.1,
             closed_meshes: true,
         })
+        .map_err(|e| format!("the recommender cannot judge this scene: {e}"))
     }
+}
+
+/// The mesh's triangles through the library's ingest (bad indices are an error, not a panic),
+/// with every vertex a triangle uses finite (a NaN or infinite vertex cannot be placed or drawn).
+fn checked_mesh(positions: &[[f32; 3]], indices: &[u32]) -> Result<Vec<VertexTriangle>, String> {
+    let verts = ingest::pack_vertex_triangles_vec(positions, indices).map_err(|e| e.to_string())?;
+    for (i, t) in verts.iter().enumerate() {
+        for p in [t.v0, t.v1, t.v2] {
+            if !p.iter().all(|c| c.is_finite()) {
+                return Err(format!(
+                    "triangle {i} has a vertex that is not finite ({p:?}): the mesh cannot be placed"
+                ));
+            }
+        }
+    }
+    Ok(verts)
+}
+
+/// Zero area in f64 (a repeated vertex or three collinear vertices).
+fn is_degenerate(t: &[Vec3; 3]) -> bool {
+    let (a, b, c) = (t[0].as_dvec3(), t[1].as_dvec3(), t[2].as_dvec3());
+    (b - a).cross(c - a) == DVec3::ZERO
 }
 
 /// What a pixel's primary ray found (for tests and the summary).
@@ -460,9 +503,15 @@ pub fn render(
         (TierArg::F64, 8) => {
             render_with::<f64x8, Standard>(scene, &prims, &prims.packed, w, h, progress)
         }
-        (TierArg::F64, l) => {
+        (TierArg::WatertightF64, 4) => {
+            render_with::<f64x4, Watertight>(scene, &prims, &prims.verts, w, h, progress)
+        }
+        (TierArg::WatertightF64, 8) => {
+            render_with::<f64x8, Watertight>(scene, &prims, &prims.verts, w, h, progress)
+        }
+        (TierArg::F64 | TierArg::WatertightF64, l) => {
             return Err(format!(
-                "the f64 tier runs 4 or 8 lanes (f64x4, f64x8), not {l}"
+                "the f64 tiers run 4 or 8 lanes (f64x4, f64x8), not {l}"
             ))
         }
         (TierArg::Auto, _) => return Err("resolve the auto tier first".into()),
@@ -470,26 +519,38 @@ pub fn render(
     })
 }
 
-/// Resolves `auto` through the recommender; the report says why.
-pub fn resolve_tier(scene: &Scene, tier: TierArg) -> (TierArg, String) {
+/// Resolves `auto` through the recommender; the report says why. With `auto`, an f64 tier's
+/// 16 lanes become 8 (f64 runs 4 or 8), and the report says so.
+pub fn resolve_tier(
+    scene: &Scene,
+    tier: TierArg,
+    lanes: u32,
+) -> Result<(TierArg, u32, String), String> {
     match tier {
         TierArg::Auto => {
-            let r = scene.recommendation();
+            let r = scene.recommendation()?;
             let t = match r.tier {
                 TierChoice::Standard => TierArg::Standard,
                 TierChoice::Watertight => TierArg::Watertight,
                 TierChoice::F64 => TierArg::F64,
+                TierChoice::WatertightF64 => TierArg::WatertightF64,
             };
-            (t, format!("chosen by the recommender: {r}"))
+            let f64_tier = matches!(t, TierArg::F64 | TierArg::WatertightF64);
+            if f64_tier && lanes == 16 {
+                return Ok((
+                    t,
+                    8,
+                    format!("chosen by the recommender: {r}; 8 lanes, the widest f64 packet"),
+                ));
+            }
+            Ok((t, lanes, format!("chosen by the recommender: {r}")))
         }
-        t => (t, "chosen on the command line".into()),
+        t => Ok((t, lanes, "chosen on the command line".into())),
     }
 }
 
-/// Writes an 8-bit RGB PNG.
-pub fn write_png(img: &Image, path: &std::path::Path) -> Result<(), String> {
-    let file = std::fs::File::create(path)
-        .map_err(|e| format!("cannot create {}: {e}", path.display()))?;
+/// Writes an 8-bit RGB PNG to `file` (already created at `path`, which messages name).
+pub fn write_png(img: &Image, file: std::fs::File, path: &std::path::Path) -> Result<(), String> {
     let mut enc = png::Encoder::new(std::io::BufWriter::new(file), img.width, img.height);
     enc.set_color(png::ColorType::Rgb);
     enc.set_depth(png::BitDepth::Eight);

@@ -12,7 +12,7 @@
 
 use super::slab::{loosen, slab, BoxRay};
 use super::{Bvh8Ref, STACK, WIDTH};
-use crate::kernel::Kernel;
+use crate::kernel::{barycentrics, Kernel};
 use crate::lanes::{LaneMask, Lanes, Scalar};
 use crate::prim::Primitive;
 use crate::query::ClosestHit;
@@ -40,10 +40,12 @@ struct Best<S> {
 
 impl<S: Scalar> Best<S> {
     fn hit(&self) -> Hit {
+        // As `kernel::barycentrics`: one division, then −0 made +0 (the same bits: rounding to
+        // f32 commutes with the sign).
         Hit {
             t: self.t.to_f32(),
-            u: (self.u / self.scale).to_f32(),
-            v: (self.v / self.scale).to_f32(),
+            u: (self.u / self.scale).to_f32() + 0.0,
+            v: (self.v / self.scale).to_f32() + 0.0,
             prim: self.id,
         }
     }
@@ -438,11 +440,12 @@ pub fn closest_hit_packet<L: Lanes, K: Kernel<L>>(
     rays: &RayLanes<L>,
 ) -> ClosestHit<L> {
     let b = packet::<L, K, false>(bvh, rays);
+    let (u, v) = barycentrics(b.u, b.v, b.scale);
     ClosestHit {
         mask: b.mask,
         t: b.t,
-        u: b.u / b.scale,
-        v: b.v / b.scale,
+        u,
+        v,
         prim: b.id,
     }
 }
