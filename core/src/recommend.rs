@@ -30,12 +30,16 @@
 //!     error_budget: 1e-4,
 //!     closed_meshes: false,
 //! };
-//! assert_eq!(recommend(&room).tier, TierChoice::Standard);
+//! assert_eq!(recommend(&room)?.tier, TierChoice::Standard);
 //! // The same room 10 km from the origin: f32 cannot hold 0.1 mm there.
 //! let far = SceneSpec { bounds_min: Vec3::splat(1e4), bounds_max: Vec3::splat(1e4 + 10.0), ..room };
-//! let r = recommend(&far);
+//! let r = recommend(&far)?;
 //! assert_eq!(r.tier, TierChoice::F64);
-//! println!("{r}"); // "tier f64: the f32 error bound 9.78e-3 at scale 1.00e4 exceeds ..."
+//! assert!(r.to_string().starts_with("tier f64: the f32 error bound 4.78e-3 at scale 1.00e4"));
+//! // A description that is not a scene is an error, not an answer.
+//! let nan = SceneSpec { smallest_feature: f32::NAN, ..room };
+//! assert!(recommend(&nan).is_err());
+//! # Ok::<(), octoray_core::recommend::SpecError>(())
 //! ```
 
 use core::fmt;
