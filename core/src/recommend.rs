@@ -31,11 +31,19 @@
 //!     closed_meshes: false,
 //! };
 //! assert_eq!(recommend(&room)?.tier, TierChoice::Standard);
-//! // The same room 10 km from the origin: f32 cannot hold 0.1 mm there.
-//! let far = SceneSpec { bounds_min: Vec3::splat(1e4), bounds_max: Vec3::splat(1e4 + 10.0), ..room };
+//! // The same room (with 5 cm features) 10 km from the origin: f32 cannot hold 0.1 mm there.
+//! let far = SceneSpec {
+//!     bounds_min: Vec3::splat(1e4),
+//!     bounds_max: Vec3::splat(1e4 + 10.0),
+//!     smallest_feature: 0.05,
+//!     ..room
+//! };
 //! let r = recommend(&far)?;
 //! assert_eq!(r.tier, TierChoice::F64);
 //! assert!(r.to_string().starts_with("tier f64: the f32 error bound 4.78e-3 at scale 1.00e4"));
+//! // Millimetre features there are already lost in the f32 input: the report says so.
+//! let lost = recommend(&SceneSpec { smallest_feature: 1e-3, ..far })?;
+//! assert!(!lost.meets_budget && lost.to_string().contains("translate the scene"));
 //! // A description that is not a scene is an error, not an answer.
 //! let nan = SceneSpec { smallest_feature: f32::NAN, ..room };
 //! assert!(recommend(&nan).is_err());
