@@ -422,8 +422,12 @@ macro_rules! impl_wide_lanes {
             }
             #[inline(always)]
             fn first_lanes(n: usize) -> Self {
+                if n >= $n {
+                    // All ones: 0 == 0 in every lane.
+                    return $f::splat(0.0).simd_eq($f::splat(0.0));
+                }
                 let idx = $f::new(core::array::from_fn(|i| i as $t));
-                idx.simd_lt($f::splat(n.min($n) as $t))
+                idx.simd_lt($f::splat(n as $t))
             }
             #[inline(always)]
             fn xor_sign(self, s: Self) -> Self {

@@ -94,23 +94,30 @@ pub trait Primitive: Copy + bytemuck::Pod {
     fn bounds(&self) -> Option<Aabb>;
 }
 
+/// Most lanes any [`Lanes`] type has.
+const MAX_LANES: usize = 16;
+
+/// The first `min(len, 16)` primitives, then zero primitives: a fixed-size copy, so that reading
+/// lane `i` needs no bounds check and no branch.
+#[inline(always)]
+fn padded<P: bytemuck::Pod>(prims: &[P]) -> [P; MAX_LANES] {
+    let mut a = [P::zeroed(); MAX_LANES];
+    let n = prims.len().min(MAX_LANES);
+    a[..n].copy_from_slice(&prims[..n]);
+    a
+}
+
 /// Field `k` (in `f32` units) of each primitive, one per lane.
 #[inline(always)]
-fn field<L: Lanes, P: bytemuck::Pod>(prims: &[P], k: usize) -> L {
+fn field<L: Lanes, P: bytemuck::Pod>(prims: &[P; MAX_LANES], k: usize) -> L {
     let n = core::mem::size_of::<P>() / 4;
     let flat: &[f32] = bytemuck::cast_slice(prims);
-    L::from_fn(|i| {
-        <L::Scalar as crate::lanes::Scalar>::from_f32(if i < prims.len() {
-            flat[i * n + k]
-        } else {
-            0.0
-        })
-    })
+    L::from_fn(|i| <L::Scalar as crate::lanes::Scalar>::from_f32(flat[i * n + k]))
 }
 
 /// Three `f32` fields starting at `k` as a lane vector.
 #[inline(always)]
-fn field3<L: Lanes, P: bytemuck::Pod>(prims: &[P], k: usize) -> V3<L> {
+fn field3<L: Lanes, P: bytemuck::Pod>(prims: &[P; MAX_LANES], k: usize) -> V3<L> {
     V3::new(field(prims, k), field(prims, k + 1), field(prims, k + 2))
 }
 
@@ -146,6 +153,7 @@ impl Primitive for PackedTriangle {
     }
     #[inline(always)]
     fn gather<L: Lanes>(prims: &[Self]) -> EdgeLanes<L> {
+        let prims = &padded(prims);
         EdgeLanes {
             v0: field3(prims, 0),
             e1: field3(prims, 3),
@@ -195,6 +203,7 @@ impl Primitive for VertexTriangle {
     }
     #[inline(always)]
     fn gather<L: Lanes>(prims: &[Self]) -> VertexLanes<L> {
+        let prims = &padded(prims);
         VertexLanes {
             v0: field3(prims, 0),
             v1: field3(prims, 3),
@@ -228,6 +237,7 @@ impl Primitive for PackedSphere {
     }
     #[inline(always)]
     fn gather<L: Lanes>(prims: &[Self]) -> SphereLanes<L> {
+        let prims = &padded(prims);
         SphereLanes {
             center: field3(prims, 0),
             radius_sq: field(prims, 3),

@@ -274,6 +274,7 @@ impl<L: Lanes> RayLanes<L> {
 
 impl<L: Lanes> RayLanes<L> {
     /// `ray` in every lane, every lane active: one ray against `L::LANES` primitives at once.
+    #[inline(always)]
     pub fn broadcast(ray: &Ray) -> Self {
         let s = |x: f32| L::splat(x);
         Self {
@@ -286,6 +287,7 @@ impl<L: Lanes> RayLanes<L> {
     }
 
     /// Lane `i`'s ray in every lane (exact: no rounding, also for f64 lanes), every lane active.
+    #[inline(always)]
     pub fn broadcast_lane(&self, i: usize) -> Self {
         let s = |x: L| L::splat_scalar(x.lane(i));
         Self {

@@ -3,7 +3,8 @@
 //! primary and diffuse-bounce rays. Writes `benches/scenes.md` and prints it.
 //!
 //! Run: `RUSTFLAGS="-C target-cpu=native" cargo run --release -p octoray-benches --bin scenes`
-//! (`-- --quick` for one run per row instead of the best of three).
+//! (`-- --quick` for one run per row instead of the best of three; `-- --only TEXT` for the rows
+//! whose description contains TEXT, and `-- --sponza` for Sponza alone).
 
 use octoray::core::bvh::traverse::{
     any_hit, any_hit_packet, closest_hit, closest_hit_packet, closest_hits,
@@ -115,8 +116,15 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
     )
     .unwrap();
     writeln!(md, "|---|---|---|---|---|---|").unwrap();
+    let only = std::env::args()
+        .skip_while(|a| a != "--only")
+        .nth(1)
+        .unwrap_or_default();
     let mut row =
         |rays: &str, q: &str, how: &str, tier: &str, n: usize, f: &mut dyn FnMut() -> u64| {
+            if !format!("{rays} {q} {how} {tier}").contains(&only) {
+                return;
+            }
             let (t, hits) = best(runs, f);
             writeln!(
                 md,
@@ -251,7 +259,9 @@ fn main() {
         Ok(s) => report(&s, runs, &mut md),
         Err(e) => writeln!(md, "\nSponza skipped: {e}").unwrap(),
     }
-    report(&jittered_sphere(1024), runs, &mut md);
+    if !std::env::args().any(|a| a == "--sponza") {
+        report(&jittered_sphere(1024), runs, &mut md);
+    }
     print!("{md}");
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes.md");
     if let Err(e) = std::fs::write(path, &md) {

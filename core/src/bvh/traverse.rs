@@ -18,6 +18,7 @@ use crate::prim::Primitive;
 use crate::query::ClosestHit;
 use crate::ray::{Hit, Ray, RayLanes};
 use crate::vec3::V3;
+use arrayvec::ArrayVec;
 use wide::f32x8;
 
 /// A stack entry: a child slot's reference (`count == 0`: inner node) and where the ray enters.
@@ -104,22 +105,16 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
     best: &mut Option<Best<L::Scalar>>,
 ) -> bool {
     let t_max = rl.t_max.lane(0);
-    let mut stack = [Entry {
-        child: 0,
-        count: 0,
-        near: 0.0f32,
-    }; STACK];
-    stack[0] = Entry {
+    // Capacity STACK is what a validated tree can need, so pushes never fail.
+    let mut stack = ArrayVec::<Entry<f32>, STACK>::new();
+    stack.push(Entry {
         child: start.0,
         count: start.1,
         near: f32::NEG_INFINITY,
-    };
-    let mut sp = 1;
+    });
     let mut ray = *rl;
     let mut cull = f32_bound(bound(t_max, best));
-    while sp > 0 {
-        sp -= 1;
-        let e = stack[sp];
+    while let Some(e) = stack.pop() {
         if e.near > cull {
             continue;
         }
@@ -192,8 +187,7 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
         }
         sort_far_first(&mut hits[..n]);
         for h in &hits[..n] {
-            stack[sp] = h.1;
-            sp += 1;
+            stack.push(h.1);
         }
     }
     false
@@ -274,24 +268,17 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
     }
     let pre = K::prepare(rays);
     let nan = L::splat(f32::NAN);
-    let mut stack = [Entry {
-        child: 0,
-        count: 0,
-        near: nan,
-    }; STACK];
-    stack[0] = Entry {
+    let mut stack = ArrayVec::<Entry<L>, STACK>::new();
+    stack.push(Entry {
         child: 0,
         count: 0,
         near: L::select(br.valid, L::splat(f32::NEG_INFINITY), nan),
-    };
-    let mut sp = 1;
+    });
     let mut ray = *rays;
     let loosen_lanes =
         |t: L| t + t.abs() * L::splat(1.0 / 1_048_576.0) + L::splat(f32::MIN_POSITIVE);
     let mut cull = rays.t_max;
-    while sp > 0 {
-        sp -= 1;
-        let e = stack[sp];
+    while let Some(e) = stack.pop() {
         let mut live = e.near.le(cull);
         if ANY {
             live = live & !best.mask;
@@ -425,8 +412,7 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
         }
         sort_far_first(&mut hits[..n]);
         for h in &hits[..n] {
-            stack[sp] = h.1;
-            sp += 1;
+            stack.push(h.1);
         }
     }
     best
