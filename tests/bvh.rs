@@ -418,3 +418,39 @@ fn regression_fast_tier_hit_on_a_zero_area_triangle() {
     // triangle far from the ray, which the BVH's box rightly culled.
     triangle_scene(10981392969920591453);
 }
+
+#[test]
+fn slab_test_keeps_rays_in_a_face_plane_and_handles_signed_zero_and_subnormal_directions() {
+    use octoray::core::bvh::slab::{slab, BoxRay};
+    use octoray::core::V3;
+    let lo = V3::<f32>::splat([0.0, 0.0, 0.0]);
+    let hi = V3::<f32>::splat([1.0, 1.0, 1.0]);
+    let ray = |o: Vec3, d: Vec3| BoxRay::<f32>::new(&RayLanes::single(&Ray::new(o, d)));
+    // Along +z at x exactly on the lower (and then upper) x face, d.x = +0 and −0: (b − o)·(1/d)
+    // is 0·inf = NaN there, which must not reject the box.
+    for dx in [0.0f32, -0.0] {
+        for x in [0.0f32, 1.0] {
+            let mut r = ray(Vec3::new(x, 0.5, -1.0), Vec3::new(dx, 0.0, 1.0));
+            // The slack moves o off the plane; put it back exactly on the face.
+            r.o_plus.x = x;
+            r.o_minus.x = x;
+            let (m, near) = slab(lo, hi, &r, f32::INFINITY);
+            assert!(m, "face-plane ray at x = {x}, d.x = {dx:?} lost the box");
+            assert!(near <= 1.0);
+        }
+    }
+    // Parallel to a face and outside the slab: rejected.
+    let r = ray(Vec3::new(2.0, 0.5, -1.0), Vec3::new(0.0, 0.0, 1.0));
+    assert!(!slab(lo, hi, &r, f32::INFINITY).0);
+    // A subnormal direction component (1/d overflows): that axis does not bound the ray.
+    let r = ray(Vec3::new(0.5, 0.5, -1.0), Vec3::new(1e-40, 0.0, 1.0));
+    assert!(slab(lo, hi, &r, f32::INFINITY).0);
+    // Starting inside the box, and the range cut off before the box.
+    let r = ray(Vec3::new(0.5, 0.5, 0.5), Vec3::new(1.0, 2.0, 3.0));
+    assert!(slab(lo, hi, &r, f32::INFINITY).0);
+    let r = ray(Vec3::new(0.5, 0.5, -1.0), Vec3::new(0.0, 0.0, 1.0));
+    assert!(!slab(lo, hi, &r, 0.5).0);
+    // NaN and zero directions are never valid.
+    assert!(!ray(Vec3::ZERO, Vec3::ZERO).valid);
+    assert!(!ray(Vec3::new(f32::NAN, 0.0, 0.0), Vec3::Z).valid);
+}

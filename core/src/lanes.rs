@@ -184,6 +184,19 @@ pub trait Lanes:
         Self::splat(0.0)
     }
 
+    /// `if self < rhs { self } else { rhs }` per lane: `rhs` when either is NaN (x86's `minps`
+    /// rule, one instruction there; a compare and a blend elsewhere, with the same result).
+    #[inline(always)]
+    fn min_or_rhs(self, rhs: Self) -> Self {
+        Self::select(self.lt(rhs), self, rhs)
+    }
+
+    /// `if self > rhs { self } else { rhs }` per lane: `rhs` when either is NaN (`maxps`).
+    #[inline(always)]
+    fn max_or_rhs(self, rhs: Self) -> Self {
+        Self::select(self.gt(rhs), self, rhs)
+    }
+
     /// `self` with its sign bit flipped where `s`'s sign bit is set (exact: `−self` where `s`
     /// is negative or −0, `self` elsewhere).
     fn xor_sign(self, s: Self) -> Self;
@@ -432,6 +445,18 @@ macro_rules! impl_wide_lanes {
             #[inline(always)]
             fn xor_sign(self, s: Self) -> Self {
                 self ^ (s & $f::splat(-0.0))
+            }
+            // x86's min/max instructions return the second operand when either is NaN: exactly
+            // the trait's definition. Other backends keep the default compare-and-blend.
+            #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+            #[inline(always)]
+            fn min_or_rhs(self, rhs: Self) -> Self {
+                self.fast_min(rhs)
+            }
+            #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+            #[inline(always)]
+            fn max_or_rhs(self, rhs: Self) -> Self {
+                self.fast_max(rhs)
             }
             #[inline(always)]
             fn splat_index(i: u32) -> $u {

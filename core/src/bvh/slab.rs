@@ -15,12 +15,12 @@
 //! cancels and has no such bound), and nothing is fused.
 //!
 //! Infinite reciprocals (zero or −0 components) give `±inf` slab distances with the right sign;
-//! where `b − o` is also 0 the product is NaN, meaning the ray runs inside that face's plane, and
-//! a NaN distance is skipped by the min/max (the axis does not bound the ray). A subnormal
+//! where `b − o` is also 0 the product is NaN, meaning the ray runs inside that face's plane: that
+//! axis then does not bound the ray (tested for +0 and −0 on both faces). A subnormal
 //! component whose reciprocal overflows is treated the same way: that axis does not bound the
 //! ray. The test is then only looser, never wrong.
 
-use crate::lanes::{Lanes, Scalar};
+use crate::lanes::{LaneMask, Lanes, Scalar};
 use crate::ray::RayLanes;
 use crate::vec3::V3;
 
@@ -48,6 +48,9 @@ pub struct BoxRay<L: Lanes> {
     /// Lanes with a finite origin and direction and a non-zero direction: the only ones any
     /// kernel can report a hit for.
     pub valid: L::Mask,
+    /// Some lane has a zero or subnormal direction component (an infinite or NaN reciprocal):
+    /// only then can a slab distance be NaN, and [`slab`] takes its NaN-aware form.
+    pub open_axes: bool,
 }
 
 impl<L: Lanes> BoxRay<L> {
@@ -71,12 +74,15 @@ impl<L: Lanes> BoxRay<L> {
             & d.y.is_finite()
             & d.z.is_finite();
         let nonzero = d.x.ne(zero) | d.y.ne(zero) | d.z.ne(zero);
+        let inv = V3::new(inv1(d.x), inv1(d.y), inv1(d.z));
+        let open = !(inv.x.is_finite() & inv.y.is_finite() & inv.z.is_finite());
         Self {
             o_plus: V3::new(o.x + delta, o.y + delta, o.z + delta),
             o_minus: V3::new(o.x - delta, o.y - delta, o.z - delta),
-            inv: V3::new(inv1(d.x), inv1(d.y), inv1(d.z)),
+            inv,
             t_min: ray.t_min,
             valid: ray.active & finite & nonzero,
+            open_axes: open.any(),
         }
     }
 }
@@ -93,14 +99,26 @@ fn max3<L: Lanes>(a: L, b: L, c: L) -> L {
 pub fn slab<L: Lanes>(lo: V3<L>, hi: V3<L>, r: &BoxRay<L>, t_max: L) -> (L::Mask, L) {
     let mut near = r.t_min;
     let mut far = t_max;
+    let nan = L::splat(f32::NAN);
+    let open_axes = r.open_axes;
     let mut axis = |lo: L, hi: L, op: L, om: L, inv: L| {
         let t0 = (lo - op) * inv;
         let t1 = (hi - om) * inv;
-        // min/max that let a NaN through to the reduction below, which skips it.
-        let n = L::select(t1.lt(t0), t1, t0);
-        let f = L::select(t0.gt(t1), t0, t1);
-        near = L::select(n.gt(near), n, near);
-        far = L::select(f.lt(far), f, far);
+        if !open_axes {
+            // Every reciprocal is finite and non-zero: no NaN can arise.
+            near = t1.min_or_rhs(t0).max_or_rhs(near);
+            far = t0.max_or_rhs(t1).min_or_rhs(far);
+            return;
+        }
+        // t0 + t1 is NaN exactly when one of them is (0·inf: the ray runs in this face's plane)
+        // or they are opposite infinities (d = 0 with the origin inside the slab): in both cases
+        // the axis does not bound the ray, so near and far become NaN, which the reduction skips
+        // (`a.max_or_rhs(b)` is `b` when either is NaN).
+        let open = (t0 + t1).ne(t0 + t1);
+        let n = L::select(open, nan, t1.min_or_rhs(t0));
+        let f = L::select(open, nan, t0.max_or_rhs(t1));
+        near = n.max_or_rhs(near);
+        far = f.min_or_rhs(far);
     };
     axis(lo.x, hi.x, r.o_plus.x, r.o_minus.x, r.inv.x);
     axis(lo.y, hi.y, r.o_plus.y, r.o_minus.y, r.inv.y);

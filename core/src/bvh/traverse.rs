@@ -391,15 +391,10 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
             if mb == 0 {
                 continue;
             }
-            // Sort key: the nearest entry among the lanes that enter.
+            // Sort key: the entry distance of the first lane that enters (a representative ray
+            // of a coherent packet; the order affects speed only, never the answer).
             let near = L::select(m, near, nan);
-            let mut key = f32::INFINITY;
-            let mut b = mb;
-            while b != 0 {
-                let i = b.trailing_zeros() as usize;
-                b &= b - 1;
-                key = key.min(near.lane(i).to_f32());
-            }
+            let key = near.lane(mb.trailing_zeros() as usize).to_f32();
             hits[n] = (
                 key,
                 Entry {
