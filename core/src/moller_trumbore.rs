@@ -7,9 +7,12 @@
 //! - `t = (s·Ng)/det` is the plane distance formed from one subtraction and the exact edges, then
 //!   one correctly rounded division; the textbook MT form `(e2·q)/det` is not used because it
 //!   loses an order of magnitude more on grazing rays.
-//! - **t error bound:** `|t − t_exact| ≤ 8·ε·max(|t|, reach)/|cos θ|`, with ε = 2⁻²⁴,
-//!   `reach = (|o − v0| + |e1| + |e2|)/|d|` and θ the angle between the ray and the normal
-//!   (t is a plane distance: near t = 0 and at grazing angles its *relative* error is unbounded).
+//! - **t error bound:** `|t − t_exact| ≤ 8·ε·max(|t|, reach)/(|cos θ|·sin α)`, with ε = 2⁻²⁴,
+//!   `reach = (|o − v0| + |e1| + |e2|)/|d|`, θ the angle between the ray and the normal and α the
+//!   triangle's angle at `v0` (t is a plane distance: near t = 0 and at grazing angles its
+//!   *relative* error is unbounded; for needle triangles the computed normal `e1 × e2` itself is
+//!   off by ε/sin α, which the fuzz harness found: a needle 5e7 long and 6e-8 wide gave t = 0 for
+//!   an exact t of −41).
 //!   Measured against the exact oracle (`cargo run --release --example accuracy`): at most 4.1 over
 //!   random, edge-aimed, grazing (1e-3…1e-7 rad) and translated (1e2…1e6) cases; p50 0 ulp and
 //!   p99 23 ulp on random cases.

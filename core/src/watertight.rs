@@ -18,7 +18,7 @@
 //!   triangle spanning the origin's depth at a near-grazing angle: there neither condition can be
 //!   proven and true hits are rejected (the accuracy report counts them).
 //! - **t error bound:** the same form as the standard tier,
-//!   `|t − t_exact| ≤ 8·ε·max(|t|, reach)/|cos θ|`; measured at most 2.7 (p50 0 ulp, p99 11 ulp on
+//!   `|t − t_exact| ≤ 8·ε·max(|t|, reach)/(|cos θ|·sin α)`; measured at most 2.7 (p50 0 ulp, p99 11 ulp on
 //!   random cases). Hits have finite `t ∈ [t_min, t_max]`.
 //! - Zero escapes over 10⁵ rays aimed at the vertices and edges of closed jittered meshes centred
 //!   at 0…1e6, where the standard tier lets 0.3–1.7 % escape (`tests/watertight.rs`).
@@ -27,6 +27,10 @@
 //! - The products are of origin-relative coordinates with z normalised by the shear, so they
 //!   overflow only when |v − o|² nears f32::MAX (~1e19), far later than the standard tier's
 //!   ~7e12; overflow is a miss, never an inf/NaN hit. Use the f64 instantiation beyond that.
+//! - Underflow: the shear scales depths by `1/d[kz]`, so a direction ~1e30 times longer than the
+//!   scene makes `t` (≲ 1e-30) and its products subnormal, and the t bound above no longer holds
+//!   (seen: t = 0 reported for an exact t of 3e-36). Keep directions within ~1e20 of the scene's
+//!   size, or normalise them.
 
 use crate::kernel::{t_in_range, LanesHit};
 use crate::lanes::{LaneMask, Lanes, Scalar};

@@ -10,8 +10,9 @@
 //! Derivation (pbrt-v4 `Bounds3::IntersectP`; Ize 2013, "Robust BVH Ray Traversal"): the slab of
 //! axis `k` is crossed at `t = (b − o)·(1/d)`, with `1/d` correctly rounded (no `recip`
 //! estimate), the subtraction and the product each rounded once: three roundings, so the computed
-//! `t` is within `γ₃·|t|` of the exact one. The near distance is therefore moved down and the far
-//! one up by `2γ₃` of themselves before they are compared. `o/d` is never precomputed (that form
+//! `t` is within `γ₃·|t|` of the exact one (plus 2⁻¹⁵⁰ absolute where it is subnormal). The near
+//! distance is therefore moved down and the far one up by `2γ₃` of themselves plus 2⁻¹²⁶ before
+//! they are compared. `o/d` is never precomputed (that form
 //! cancels and has no such bound), and nothing is fused.
 //!
 //! Infinite reciprocals (zero or −0 components) give `±inf` slab distances with the right sign;
@@ -123,9 +124,12 @@ pub fn slab<L: Lanes>(lo: V3<L>, hi: V3<L>, r: &BoxRay<L>, t_max: L) -> (L::Mask
     axis(lo.x, hi.x, r.o_plus.x, r.o_minus.x, r.inv.x);
     axis(lo.y, hi.y, r.o_plus.y, r.o_minus.y, r.inv.y);
     axis(lo.z, hi.z, r.o_plus.z, r.o_minus.z, r.inv.z);
+    // Relative widening by 2γ₃, plus an absolute 2⁻¹²⁶ for distances in the subnormal range
+    // (huge directions), where a rounding is off by up to 2⁻¹⁵⁰ whatever the value.
     let c = L::splat(TWO_GAMMA3);
-    let near = near - near.abs() * c;
-    let far = far + far.abs() * c;
+    let tiny = L::splat(f32::MIN_POSITIVE);
+    let near = near - (near.abs() * c + tiny);
+    let far = far + (far.abs() * c + tiny);
     (r.valid & near.le(far), near)
 }
 
