@@ -7,6 +7,7 @@ mod common;
 use common::*;
 use octoray::core::textbook::{self, InsideTest};
 use octoray::glam::Vec3;
+use octoray::packet::tiers::{StableSphere, Standard};
 use octoray::packet::{self, f32x16, f32x4, f32x8, LaneMask, Lanes, RayPacket};
 use octoray::{PackedSphere, PackedTriangle, Ray, Sphere, Triangle};
 
@@ -183,9 +184,9 @@ fn no_poisoning<L: Lanes>() {
             .map(|i| if i % 2 == 0 { seed_ray() } else { bad })
             .collect();
         let p = RayPacket::<L>::load(&rays);
-        let ht = packet::closest_triangle(&p, &tris);
-        let hs = packet::closest_sphere(&p, &spheres);
-        let occ = packet::any_triangle(&p, &tris).bitmask();
+        let ht = packet::query::closest_hit::<_, Standard>(&p, &tris);
+        let hs = packet::query::closest_hit::<_, StableSphere>(&p, &spheres);
+        let occ = packet::query::any_hit::<_, Standard>(&p, &tris).bitmask();
         for i in 0..L::LANES {
             if i % 2 == 0 {
                 assert_eq!(ht.lane(i), Some(alone_t), "{what}: lane {i}");

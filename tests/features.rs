@@ -6,7 +6,8 @@
 mod triangles {
     use octoray::core::textbook::{self, InsideTest};
     use octoray::glam::Vec3;
-    use octoray::packet::{closest_triangles, f32x8};
+    use octoray::packet::tiers::Standard;
+    use octoray::packet::{closest, f32x8};
     use octoray::{PackedTriangle, Ray, Triangle};
 
     #[test]
@@ -27,7 +28,7 @@ mod triangles {
             Some(2.0)
         );
         let mut hits = [None; 3];
-        closest_triangles::<f32x8>(&[ray; 3], &[packed], &mut hits);
+        closest::<f32x8, Standard>(&[ray; 3], &[packed], &mut hits);
         assert!(hits.iter().all(|h| h.map(|h| h.t) == Some(2.0)));
     }
 }
@@ -36,7 +37,8 @@ mod triangles {
 mod spheres {
     use octoray::core::textbook;
     use octoray::glam::Vec3;
-    use octoray::packet::{closest_spheres, f32x8};
+    use octoray::packet::tiers::StableSphere;
+    use octoray::packet::{closest, f32x8};
     use octoray::{PackedSphere, Ray, Sphere};
 
     #[test]
@@ -54,7 +56,7 @@ mod spheres {
             let twin = octoray::core::intersect_sphere(&ray, &packed);
             assert_eq!(twin.is_some(), hit);
             let mut out = [None; 2];
-            closest_spheres::<f32x8>(&[ray; 2], &[packed], &mut out);
+            closest::<f32x8, StableSphere>(&[ray; 2], &[packed], &mut out);
             assert!(out.iter().all(|h| *h == twin));
         }
     }

@@ -471,13 +471,16 @@ fn run_batch(rng: &mut Rng) {
         .collect();
     let rays: Vec<Ray> = cases.iter().map(|c| c.0).take(n).collect();
     let mut out = vec![None; rays.len()];
-    octoray::packet::closest_triangles::<f32x8>(&rays, &tris, &mut out);
+    octoray::packet::closest::<f32x8, Standard>(&rays, &tris, &mut out);
     let mut occ = vec![false; rays.len()];
-    octoray::packet::occluded_triangles::<f32x16>(&rays, &tris, &mut occ);
+    octoray::packet::occluded::<f32x16, Standard>(&rays, &tris, &mut occ);
+    let mut ts = vec![None; rays.len()];
+    octoray::packet::closest_t::<f32x4, Standard>(&rays, &tris, &mut ts);
     for (i, r) in rays.iter().enumerate() {
         let want = closest_hit::<f32, Standard>(&RayLanes::single(r), &tris).lane(0);
         assert_eq!(out[i], want, "batch closest, {r:?}");
         assert_eq!(occ[i], want.is_some(), "batch occluded, {r:?}");
+        assert_eq!(ts[i], want.map(|h| h.t), "batch closest_t, {r:?}");
     }
 }
 

@@ -167,7 +167,7 @@ fn check_kernels<L: Lanes>() {
     for (tri, want) in tris.iter().zip(want_tri) {
         let twin = octoray::core::intersect_triangle(&ray, tri).map(|h| f64::from(h.t));
         assert_eq!(twin, want);
-        let p = packet::closest_triangle::<L>(
+        let p = packet::query::closest_hit::<L, packet::tiers::Standard>(
             &packet::RayPacket::<L>::load(&[ray]),
             std::slice::from_ref(tri),
         );
@@ -178,7 +178,7 @@ fn check_kernels<L: Lanes>() {
     }
     for (s, want) in spheres.iter().zip(want_sph) {
         let twin = octoray::core::intersect_sphere(&ray, s);
-        let p = packet::closest_sphere::<L>(
+        let p = packet::query::closest_hit::<L, packet::tiers::StableSphere>(
             &packet::RayPacket::<L>::load(&[ray]),
             std::slice::from_ref(s),
         );
@@ -194,24 +194,28 @@ fn check_kernels<L: Lanes>() {
     let rays = vec![ray; L::LANES.min(7)];
     let mut hits = vec![None; rays.len()];
     for (k, tri) in tris.iter().enumerate() {
-        packet::closest_triangles::<L>(&rays, std::slice::from_ref(tri), &mut hits);
+        packet::closest::<L, packet::tiers::Standard>(&rays, std::slice::from_ref(tri), &mut hits);
         for h in &hits {
             assert_eq!(h.map(|h| f64::from(h.t)), want_tri[k]);
         }
     }
     for (k, s) in spheres.iter().enumerate() {
-        packet::closest_spheres::<L>(&rays, std::slice::from_ref(s), &mut hits);
+        packet::closest::<L, packet::tiers::StableSphere>(
+            &rays,
+            std::slice::from_ref(s),
+            &mut hits,
+        );
         for h in &hits {
             assert_eq!(h.is_some(), want_sph[k].is_some());
         }
     }
     // And all primitives at once: triangle 1 (t = 2) is nearer than nothing else; sphere 2's
     // near root (~0.733) is the closest sphere.
-    packet::closest_triangles::<L>(&rays, &tris, &mut hits);
+    packet::closest::<L, packet::tiers::Standard>(&rays, &tris, &mut hits);
     assert!(hits
         .iter()
         .all(|h| h.map(|h| (h.t, h.prim)) == Some((2.0, 0))));
-    packet::closest_spheres::<L>(&rays, &spheres, &mut hits);
+    packet::closest::<L, packet::tiers::StableSphere>(&rays, &spheres, &mut hits);
     assert!(hits.iter().all(|h| h.is_some_and(|h| h.prim == 1)));
 }
 

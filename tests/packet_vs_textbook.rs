@@ -17,7 +17,8 @@ mod common;
 use common::Rng;
 use glam::DVec3;
 use octoray::core::textbook::{self, InsideTest};
-use octoray::packet::{closest_triangles, f32x8};
+use octoray::packet::tiers::Standard;
+use octoray::packet::{closest, f32x8};
 use octoray::{PackedTriangle, Ray, Triangle};
 
 const MARGIN: f64 = 1e-3;
@@ -80,7 +81,7 @@ fn moller_trumbore_agrees_with_the_textbook_outside_the_margin() {
     // Each ray against its own triangle through the 8-lane packet path.
     let mut packet_hits = vec![None; cases.len()];
     for ((ray, tri), out) in cases.iter().zip(packet_hits.chunks_mut(1)) {
-        closest_triangles::<f32x8>(
+        closest::<f32x8, Standard>(
             std::slice::from_ref(ray),
             &[PackedTriangle::from(*tri)],
             out,

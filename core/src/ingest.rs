@@ -50,6 +50,8 @@ pub enum IngestError {
     },
 }
 
+impl core::error::Error for IngestError {}
+
 impl fmt::Display for IngestError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {

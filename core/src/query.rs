@@ -78,9 +78,10 @@ impl<L: Lanes> ClosestHit<L> {
         }
     }
 
-    /// Lane `i` as a scalar hit record (f64 lanes rounded to f32), `None` where that lane missed.
+    /// Lane `i` as a scalar hit record (f64 lanes rounded to f32), `None` where that lane missed
+    /// and for every `i ≥ L::LANES` (there is no such lane).
     pub fn lane(&self, i: usize) -> Option<Hit> {
-        ((self.mask.bitmask() >> i) & 1 == 1).then(|| Hit {
+        (i < L::LANES && (self.mask.bitmask() >> i) & 1 == 1).then(|| Hit {
             t: self.t.lane(i).to_f32(),
             u: self.u.lane(i).to_f32(),
             v: self.v.lane(i).to_f32(),
@@ -90,9 +91,13 @@ impl<L: Lanes> ClosestHit<L> {
 }
 
 /// Closest hit per lane with kernel `K`. Each hit shrinks the lane's `t_max`, and only a strictly
-/// nearer hit replaces the best one, so ties in `t` go to the lower index. Primitive indices are
-/// `u32`: slices longer than `u32::MAX` are not supported.
+/// nearer hit replaces the best one, so ties in `t` go to the lower index.
+///
+/// # Panics
+/// When `prims.len() > u32::MAX`: primitive indices are `u32`, and a longer slice would report
+/// wrapped indices.
 pub fn closest_hit<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> ClosestHit<L> {
+    check_prim_count(prims.len());
     let pre = K::prepare(ray);
     let mut ray = *ray;
     let mut best = ClosestHit::<L>::miss();
@@ -115,6 +120,16 @@ pub fn closest_hit<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim])
     // The barycentrics were carried as numerators: one division for the winner.
     (best.u, best.v) = crate::kernel::barycentrics(best.u, best.v, scale);
     best
+}
+
+/// Panics with a clear message when `n` primitives cannot be indexed by `u32`.
+#[inline]
+pub(crate) fn check_prim_count(n: usize) {
+    assert!(
+        n as u64 <= u64::from(u32::MAX),
+        "octoray: {n} primitives in one slice; indices are u32 (at most {})",
+        u32::MAX
+    );
 }
 
 /// Closest `t` only, per lane, with kernel `K`: the mask of lanes that hit and their nearest `t`,
@@ -187,4 +202,18 @@ pub fn closest_sphere_naive<L: Lanes>(
     spheres: &[PackedSphere],
 ) -> ClosestHit<L> {
     closest_hit::<L, NaiveSphere>(ray, spheres)
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    #[should_panic(expected = "indices are u32")]
+    fn more_than_u32_max_primitives_is_a_clear_panic() {
+        super::check_prim_count(u32::MAX as usize + 1);
+    }
+
+    #[test]
+    fn u32_max_primitives_are_accepted() {
+        super::check_prim_count(u32::MAX as usize);
+    }
 }

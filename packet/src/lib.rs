@@ -1,11 +1,17 @@
-//! `octoray-packet`: structure-of-arrays ray packets against triangles and spheres, on `wide`.
+//! `octoray-packet`: the SIMD layer a renderer calls — ray packets and ray slices against
+//! primitive slices and scenes, at every tier and width, on `wide`.
 //!
-//! A [`RayPacket<L>`] holds `L::LANES` rays (4, 8 or 16 on `wide::f32x4`, [`f32x8`], `f32x16`;
-//! 8 is the default) and an active-lane mask. Triangles and spheres are stored precomputed as
-//! [`PackedTriangle`] (`v0, e1, e2`) and [`PackedSphere`] (centre, radius²), broadcast to every
-//! lane. The kernels are the single generic bodies of `octoray-core`; each lane's answer is
-//! bit-identical to the scalar twin ([`octoray_core::intersect_triangle`],
-//! [`octoray_core::intersect_sphere`], and the `query` functions at `L = f32`), on every build.
+//! - Widths: [`f32x4`], [`f32x8`], [`f32x16`] for the f32 tiers, [`f64x4`], [`f64x8`] for the f64
+//!   tier (re-exported, so you never need a matching `wide` version yourself).
+//! - Tiers ([`tiers`]): [`Standard`](tiers::Standard) (Möller-Trumbore), [`Watertight`](tiers::Watertight),
+//!   [`Fast`](tiers::Fast), culled variants, [`StableSphere`](tiers::StableSphere),
+//!   [`NaiveSphere`](tiers::NaiveSphere); at an f64 width any of them is the f64 tier.
+//! - Slices of rays against slices of primitives (brute force): [`closest`], [`closest_t`],
+//!   [`occluded`]. Against a scene ([`Bvh8`]): [`scene::closest`], [`scene::occluded`].
+//! - One packet: [`RayPacket<L>`] with [`query`] (slices) and [`scene`] (BVH).
+//!
+//! Every lane's answer is bit-identical to the scalar twin (`octoray_core::query` at `L = f32`),
+//! on every build, for every tier but the fast one (whose contract is an error bound).
 //!
 //! `wide` picks its instructions at compile time: build with `-C target-cpu=native` (or at least
 //! `-C target-feature=+avx`) for one AVX register per `f32x8`, `+avx512f` for one zmm per
@@ -13,125 +19,113 @@
 //!
 //! ```
 //! # #[cfg(feature = "triangle")] {
-//! use octoray_packet::{closest_triangles, glam::Vec3, PackedTriangle, Ray};
-//! let tris = [PackedTriangle::new(
+//! use octoray_packet::tiers::Watertight;
+//! use octoray_packet::{closest, f32x8, glam::Vec3, Ray, VertexTriangle};
+//! let tris = [VertexTriangle::new(
 //!     Vec3::new(0.0, 6.0, 7.0),
 //!     Vec3::new(-3.0, 1.0, 5.0),
 //!     Vec3::new(-2.0, 1.0, 4.0),
 //! )];
 //! let rays = [Ray::new(Vec3::new(-4.0, -2.0, -1.0), Vec3::new(1.0, 2.0, 3.0)); 3];
 //! let mut hits = [None; 3];
-//! closest_triangles::<octoray_packet::f32x8>(&rays, &tris, &mut hits);
-//! assert!(hits.iter().all(|h| h.map(|h| h.t) == Some(2.0)));
+//! closest::<f32x8, Watertight>(&rays, &tris, &mut hits);
+//! // t = 2 on the seed sheet; the watertight tier is within its documented bound of it.
+//! assert!(hits.iter().all(|h| h.is_some_and(|h| (h.t - 2.0).abs() < 1e-6)));
 //! # }
 //! ```
 #![no_std]
 #![forbid(unsafe_code)]
 
-pub use octoray_core::query::ClosestHit;
-pub use octoray_core::{glam, query, Hit, LaneMask, Lanes, Ray};
-#[cfg(feature = "triangle")]
-pub use octoray_core::{moller_trumbore, PackedTriangle, Triangle};
+#[cfg(feature = "alloc")]
+pub use octoray_core::bvh::{BuildStats, Bvh8};
+pub use octoray_core::bvh::{Bvh8Node, Bvh8Ref, BvhError};
+pub use octoray_core::query::{self, ClosestHit};
+pub use octoray_core::{glam, Hit, LaneMask, Lanes, Ray};
 #[cfg(feature = "sphere")]
-pub use octoray_core::{sphere_stable, PackedSphere, Sphere};
-pub use wide::{f32x16, f32x4, f32x8};
+pub use octoray_core::{PackedSphere, Sphere};
+#[cfg(feature = "triangle")]
+pub use octoray_core::{PackedTriangle, Triangle, VertexTriangle};
+pub use wide::{f32x16, f32x4, f32x8, f64x4, f64x8};
+
+/// The accuracy tiers (kernel types): pick one per call.
+pub mod tiers {
+    pub use octoray_core::kernel::Kernel;
+    #[cfg(feature = "triangle")]
+    pub use octoray_core::kernel::{Fast, Standard, StandardCulled, Watertight, WatertightCulled};
+    #[cfg(feature = "sphere")]
+    pub use octoray_core::kernel::{NaiveSphere, StableSphere};
+}
+
+use tiers::Kernel;
 
 /// `L::LANES` rays in SoA form with an active-lane mask (see [`octoray_core::RayLanes`]).
 pub type RayPacket<L = f32x8> = octoray_core::RayLanes<L>;
-/// A 4-lane packet (`wide::f32x4`: one SSE register).
-pub type RayPacket4 = RayPacket<f32x4>;
-/// An 8-lane packet (`wide::f32x8`: one AVX register, or two SSE halves without `avx`).
-pub type RayPacket8 = RayPacket<f32x8>;
-/// A 16-lane packet (`wide::f32x16`: one zmm register with `avx512f`, else two `f32x8`).
-pub type RayPacket16 = RayPacket<f32x16>;
 
 /// Splits a slice of rays of any length into packets; the last one is partial and masked.
 pub fn packets<L: Lanes + 'static>(rays: &[Ray]) -> impl Iterator<Item = RayPacket<L>> + '_ {
     rays.chunks(L::LANES).map(RayPacket::<L>::load)
 }
 
-/// Closest triangle packet query: lane by lane equal to
-/// [`octoray_core::query::closest_triangle`] at `L = f32`.
-#[cfg(feature = "triangle")]
-pub fn closest_triangle<L: Lanes>(packet: &RayPacket<L>, tris: &[PackedTriangle]) -> ClosestHit<L> {
-    query::closest_triangle(packet, tris)
-}
-
-/// Occlusion packet query against triangles (stops when every active lane is occluded).
-#[cfg(feature = "triangle")]
-pub fn any_triangle<L: Lanes>(packet: &RayPacket<L>, tris: &[PackedTriangle]) -> L::Mask {
-    query::any_triangle(packet, tris)
-}
-
-/// Closest sphere packet query.
-#[cfg(feature = "sphere")]
-pub fn closest_sphere<L: Lanes>(packet: &RayPacket<L>, spheres: &[PackedSphere]) -> ClosestHit<L> {
-    query::closest_sphere(packet, spheres)
-}
-
-/// Occlusion packet query against spheres.
-#[cfg(feature = "sphere")]
-pub fn any_sphere<L: Lanes>(packet: &RayPacket<L>, spheres: &[PackedSphere]) -> L::Mask {
-    query::any_sphere(packet, spheres)
-}
-
-/// Traces `rays` in packets of `L::LANES` and writes each ray's closest triangle hit to `out`
-/// (`out[i]` for `rays[i]`; extra entries of `out` are left alone, missing ones are not written).
-#[cfg(feature = "triangle")]
-pub fn closest_triangles<L: Lanes>(rays: &[Ray], tris: &[PackedTriangle], out: &mut [Option<Hit>]) {
-    batch(
-        rays,
-        out,
-        |p| closest_triangle::<L>(p, tris),
-        ClosestHit::lane,
+/// Panics unless `out` has one entry per ray (the `copy_from_slice` convention: a length
+/// mismatch is a caller bug, never silently truncated).
+#[track_caller]
+fn check_len(what: &str, rays: usize, out: usize) {
+    assert_eq!(
+        rays, out,
+        "octoray {what}: {rays} rays but {out} output entries; they must be equal"
     );
 }
 
-/// Traces `rays` in packets and writes each ray's closest sphere hit to `out`.
-#[cfg(feature = "sphere")]
-pub fn closest_spheres<L: Lanes>(rays: &[Ray], spheres: &[PackedSphere], out: &mut [Option<Hit>]) {
-    batch(
-        rays,
-        out,
-        |p| closest_sphere::<L>(p, spheres),
-        ClosestHit::lane,
-    );
-}
-
-/// Traces `rays` in packets and writes whether each is occluded by a triangle to `out`.
-#[cfg(feature = "triangle")]
-pub fn occluded_triangles<L: Lanes>(rays: &[Ray], tris: &[PackedTriangle], out: &mut [bool]) {
-    batch(
-        rays,
-        out,
-        |p| any_triangle::<L>(p, tris),
-        |m, i| (m.bitmask() >> i) & 1 == 1,
-    );
-}
-
-/// Traces `rays` in packets and writes whether each is occluded by a sphere to `out`.
-#[cfg(feature = "sphere")]
-pub fn occluded_spheres<L: Lanes>(rays: &[Ray], spheres: &[PackedSphere], out: &mut [bool]) {
-    batch(
-        rays,
-        out,
-        |p| any_sphere::<L>(p, spheres),
-        |m, i| (m.bitmask() >> i) & 1 == 1,
-    );
-}
-
-/// Runs `query` on each packet of `rays` and scatters lane `i`'s answer (via `lane`) to `out`.
-#[cfg(any(feature = "triangle", feature = "sphere"))]
-fn batch<L: Lanes, R, T>(
-    rays: &[Ray],
-    out: &mut [T],
-    mut query: impl FnMut(&RayPacket<L>) -> R,
-    lane: impl Fn(&R, usize) -> T,
-) {
+/// Closest hit of every ray over `prims` with tier `K` at width `L`: `out[i]` for `rays[i]`
+/// (`prim` is the index in `prims`).
+///
+/// # Panics
+/// When `out.len() != rays.len()`, or `prims.len() > u32::MAX`.
+pub fn closest<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim], out: &mut [Option<Hit>]) {
+    check_len("closest", rays.len(), out.len());
     for (chunk, out) in rays.chunks(L::LANES).zip(out.chunks_mut(L::LANES)) {
-        let r = query(&RayPacket::<L>::load(chunk));
-        for (i, o) in out.iter_mut().take(chunk.len()).enumerate() {
-            *o = lane(&r, i);
+        let h = query::closest_hit::<L, K>(&RayPacket::load(chunk), prims);
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = h.lane(i);
         }
     }
+}
+
+/// Nearest `t` of every ray (no barycentrics, no index): `out[i]` for `rays[i]`, equal to
+/// [`closest`]'s `t` bit for bit.
+///
+/// # Panics
+/// When `out.len() != rays.len()`.
+pub fn closest_t<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim], out: &mut [Option<f32>]) {
+    check_len("closest_t", rays.len(), out.len());
+    for (chunk, out) in rays.chunks(L::LANES).zip(out.chunks_mut(L::LANES)) {
+        let (m, t) = query::closest_t::<L, K>(&RayPacket::load(chunk), prims);
+        let bits = m.bitmask();
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = ((bits >> i) & 1 == 1).then(|| octoray_core::Scalar::to_f32(t.lane(i)));
+        }
+    }
+}
+
+/// Whether each ray hits anything in its `[t_min, t_max]` (shadow rays): `out[i]` for `rays[i]`.
+///
+/// # Panics
+/// When `out.len() != rays.len()`.
+pub fn occluded<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim], out: &mut [bool]) {
+    check_len("occluded", rays.len(), out.len());
+    for (chunk, out) in rays.chunks(L::LANES).zip(out.chunks_mut(L::LANES)) {
+        let bits = query::any_hit::<L, K>(&RayPacket::load(chunk), prims).bitmask();
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = (bits >> i) & 1 == 1;
+        }
+    }
+}
+
+/// The same calls against a scene ([`Bvh8`]/[`Bvh8Ref`]): answers equal the brute-force calls
+/// above over the slice the tree was built from, bit for bit.
+pub mod scene {
+    pub use octoray_core::bvh::traverse::{
+        any_hit, any_hit_packet, closest_hit, closest_hit_packet, closest_hits as closest,
+        closest_t_packet, occluded,
+    };
 }

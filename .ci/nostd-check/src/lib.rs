@@ -6,6 +6,7 @@ use octoray_core::{PackedSphere, PackedTriangle, Ray};
 use octoray_core::bvh::{traverse, Bvh8Node, Bvh8Ref};
 use octoray_core::kernel::Watertight;
 use octoray_core::VertexTriangle;
+use octoray_packet::tiers::{StableSphere, Standard};
 use octoray_packet::{f32x8, LaneMask, RayPacket};
 
 #[panic_handler]
@@ -20,8 +21,8 @@ pub extern "C" fn octoray_nostd_probe(x: f32) -> u32 {
     let tri = PackedTriangle::new(Vec3::new(0.0, 6.0, 7.0), Vec3::new(-3.0, 1.0, 5.0), Vec3::new(-2.0, 1.0, 4.0));
     let sph = PackedSphere::new(Vec3::ZERO, 10.0);
     let p = RayPacket::<f32x8>::load(&[ray; 5]);
-    let t = octoray_packet::closest_triangle(&p, &[tri]).mask.bitmask();
-    let s = octoray_packet::any_sphere(&p, &[sph]).bitmask();
+    let t = octoray_packet::query::closest_hit::<_, Standard>(&p, &[tri]).mask.bitmask();
+    let s = octoray_packet::query::any_hit::<_, StableSphere>(&p, &[sph]).bitmask();
     let scalar = octoray_core::intersect_triangle(&ray, &tri).is_some() as u32;
     t ^ (s << 8) ^ (scalar << 16)
 }
