@@ -171,9 +171,30 @@ fn point_triangle_distance(p: octoray::glam::DVec3, v: [octoray::glam::DVec3; 3]
     }
 }
 
+/// Cases outside the kernels' documented range: products underflow where `r³/|d| < 1e-30`
+/// (`r = max|v − o|`, the watertight contract) or an edge's square is subnormal (the standard
+/// tier's range, the recommender's `smallest_feature ≥ 1e-12`). Counted, not checked.
+static OUT_OF_RANGE: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
+fn underflow_regime(ray: &Ray, v: [Vec3; 3]) -> bool {
+    let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
+    let r = v
+        .iter()
+        .map(|p| (p.as_dvec3() - o).length())
+        .fold(0.0, f64::max);
+    let edge = (0..3)
+        .map(|k| (v[(k + 1) % 3] - v[k]).as_dvec3().length())
+        .fold(f64::INFINITY, f64::min);
+    r * r * r / d.length() < 1e-30 || (edge > 0.0 && edge * edge < 1e-30)
+}
+
 /// The exact oracle's verdict on a reported triangle hit: allowed unless the exact answer is a
 /// miss by more than the tier's documented margin.
 fn check_oracle(ray: &Ray, v: [Vec3; 3], packed: bool, t: f32, what: &str) {
+    if underflow_regime(ray, v) {
+        OUT_OF_RANGE.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        return;
+    }
     let truth = if packed {
         oracle::triangle_packed(ray, v)
     } else {
@@ -503,12 +524,14 @@ fn fuzz(seed: u64, n: usize) -> (usize, usize) {
 #[test]
 fn fuzz_fast_slice() {
     let (n, bvh) = fuzz(0x0c70_7a11, 20_000);
-    println!("{n} cases per entry point, {bvh} BVH rays");
+    let skipped = OUT_OF_RANGE.load(std::sync::atomic::Ordering::Relaxed);
+    println!("{n} cases per entry point, {bvh} BVH rays; {skipped} hits outside the documented range (underflow) not oracle-checked");
 }
 
 #[test]
 #[ignore = "10⁷ cases per entry point: cargo test --release --test fuzz -- --ignored --nocapture"]
 fn fuzz_large_run() {
     let (n, bvh) = fuzz(0x5eed_0001, 10_000_000);
-    println!("{n} cases per entry point, {bvh} BVH rays: clean");
+    let skipped = OUT_OF_RANGE.load(std::sync::atomic::Ordering::Relaxed);
+    println!("{n} cases per entry point, {bvh} BVH rays: clean; {skipped} hits outside the documented range (underflow) not oracle-checked");
 }

@@ -27,10 +27,11 @@
 //! - The products are of origin-relative coordinates with z normalised by the shear, so they
 //!   overflow only when |v − o|² nears f32::MAX (~1e19), far later than the standard tier's
 //!   ~7e12; overflow is a miss, never an inf/NaN hit. Use the f64 instantiation beyond that.
-//! - Underflow: the shear scales depths by `1/d[kz]`, so a direction ~1e30 times longer than the
-//!   scene makes `t` (≲ 1e-30) and its products subnormal, and the t bound above no longer holds
-//!   (seen: t = 0 reported for an exact t of 3e-36). Keep directions within ~1e20 of the scene's
-//!   size, or normalise them.
+//! - Underflow: the shear scales depths by `1/d[kz]`, and `t`'s numerator is a product of two
+//!   sheared extents and a scaled depth, of size `r³/|d|` with `r = max|v − o|`. Where that falls
+//!   below ~1e-30 (a direction ~1e26 times longer than a 1e-7 triangle, or ~1e30 times a unit
+//!   one), products go subnormal and the t bound above no longer holds: the fuzz harness saw t = 0
+//!   reported for exact t of 3e-36 and 1.7e-18. Normalise directions, or keep `r³/|d| ≥ 1e-30`.
 
 use crate::kernel::{t_in_range, LanesHit};
 use crate::lanes::{LaneMask, Lanes, Scalar};
