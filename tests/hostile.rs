@@ -178,3 +178,20 @@ fn spawn_helpers_stay_finite_and_tiny_spheres_are_documented() {
         assert!(o.is_finite(), "{p:?} -> {o:?}");
     }
 }
+
+#[cfg(feature = "sphere")]
+#[test]
+fn sphere_hit_point_is_finite_when_o_plus_t_d_overflows_f32() {
+    // Found by the 10⁷ fuzz run: a huge direction made o + t·d infinite before re-projection.
+    use octoray::core::offset::sphere_hit_point;
+    let v = Vec3::new;
+    let ray = Ray::new(v(0.0, 0.0, -1.9e11), v(0.0, 0.0, 3.3e38));
+    let (c, r) = (v(0.0, 0.0, 0.0), 9.45e10);
+    let t = 2.0f32; // o + t·d overflows f32 (6.6e38)
+    let (p, _) = sphere_hit_point(&ray, t, c, r);
+    assert!(p.is_finite(), "{p:?}");
+    assert!(
+        (p.length() - r).abs() <= r * 1e-6,
+        "re-projected onto the sphere: {p:?}"
+    );
+}

@@ -35,6 +35,7 @@
 extern crate alloc;
 
 pub mod bvh;
+pub mod hit;
 pub mod ingest;
 pub mod kernel;
 pub mod lanes;

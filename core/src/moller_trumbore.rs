@@ -24,7 +24,7 @@
 //!   Non-finite inputs, zero directions, zero-area triangles, rays in or parallel to the plane,
 //!   and products that overflow (coordinates beyond ~1e12) are misses.
 
-use crate::kernel::{t_in_range, LanesHit};
+use crate::hit::{t_in_range, LanesHit};
 use crate::lanes::{LaneMask, Lanes};
 use crate::prim::{EdgeLanes, Primitive};
 use crate::ray::{PackedTriangle, RayLanes};

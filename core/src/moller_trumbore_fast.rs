@@ -14,7 +14,7 @@
 //!   is 0) are misses: without that test the 1997 form reports hits on degenerate triangles and
 //!   at `t = ±0` on huge ones.
 
-use crate::kernel::{t_in_range, LanesHit};
+use crate::hit::{t_in_range, LanesHit};
 use crate::lanes::{FastLanes, LaneMask};
 use crate::prim::{EdgeLanes, Primitive};
 use crate::ray::{PackedTriangle, RayLanes};

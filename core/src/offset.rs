@@ -26,11 +26,11 @@ fn gamma(n: f32) -> f32 {
 #[cfg(feature = "sphere")]
 pub fn sphere_hit_point(ray: &crate::ray::Ray, t: f32, center: Vec3, radius: f32) -> (Vec3, Vec3) {
     let p = ray.at(t);
-    // In f64: |p − c|² of a tiny sphere (r ≲ 1e-19) underflows in f32 and would give NaN.
-    let (pd, cd) = (
-        p.to_array().map(f64::from),
-        center.to_array().map(f64::from),
-    );
+    // In f64: |p − c|² of a tiny sphere (r ≲ 1e-19) underflows in f32 and would give NaN, and
+    // o + t·d of a huge direction can overflow f32 before the point is projected back.
+    let (o, d) = (ray.origin.to_array(), ray.dir.to_array());
+    let pd: [f64; 3] = core::array::from_fn(|k| f64::from(o[k]) + f64::from(t) * f64::from(d[k]));
+    let cd = center.to_array().map(f64::from);
     let diff: [f64; 3] = core::array::from_fn(|k| pd[k] - cd[k]);
     let len = libm::sqrt(diff[0] * diff[0] + diff[1] * diff[1] + diff[2] * diff[2]);
     let s = f64::from(radius) / len;

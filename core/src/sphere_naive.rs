@@ -9,7 +9,7 @@
 //!   (measured in the accuracy report at 1e2…1e6 radii) and the near root cancels in `−b + √Δ`.
 //! - Reported hits always have finite `t ∈ [t_min, t_max]`; bad input is a miss.
 
-use crate::kernel::{nearest_root_in_range, LanesHit};
+use crate::hit::{nearest_root_in_range, LanesHit};
 use crate::lanes::{LaneMask, Lanes};
 use crate::prim::{Primitive, SphereLanes};
 use crate::ray::{PackedSphere, RayLanes};

@@ -19,7 +19,7 @@
 //!   `> 0` (packed as `radius_sq = NaN`), zero or non-finite directions and non-finite inputs
 //!   are misses.
 
-use crate::kernel::{nearest_root_in_range, LanesHit};
+use crate::hit::{nearest_root_in_range, LanesHit};
 use crate::lanes::{LaneMask, Lanes};
 use crate::prim::{Primitive, SphereLanes};
 use crate::ray::{PackedSphere, RayLanes};

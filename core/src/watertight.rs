@@ -33,7 +33,7 @@
 //!   one), products go subnormal and the t bound above no longer holds: the fuzz harness saw t = 0
 //!   reported for exact t of 3e-36 and 1.7e-18. Normalise directions, or keep `r³/|d| ≥ 1e-30`.
 
-use crate::kernel::{t_in_range, LanesHit};
+use crate::hit::{t_in_range, LanesHit};
 use crate::lanes::{LaneMask, Lanes, Scalar};
 use crate::prim::{Primitive, VertexLanes};
 use crate::ray::{RayLanes, VertexTriangle};

@@ -1,0 +1,85 @@
+//! What a kernel answers: the per-lane hit record and the range checks every kernel ends with.
+//! The leaf of the kernel layer: the algorithms (`moller_trumbore`, `watertight`, …) import it,
+//! and [`crate::kernel`] (the tiers) sits above them.
+
+use crate::lanes::Lanes;
+use crate::ray::RayLanes;
+
+/// Per-lane result of one ray-primitive test: `mask` marks the lanes that hit; the fields are
+/// meaningful only there.
+///
+/// The barycentrics are returned as numerators over a common denominator (`u/scale`,
+/// `v/scale`), so a closest-hit query divides once, for the winning hit, instead of once per
+/// test; [`LanesHit::barycentrics`] divides. Spheres report `u = v = 0`, `scale = 1`.
+#[derive(Clone, Copy, Debug)]
+pub struct LanesHit<L: Lanes> {
+    /// Lanes that hit.
+    pub mask: L::Mask,
+    /// Ray parameter.
+    pub t: L,
+    /// Numerator of the barycentric weight of `v1`.
+    pub u: L,
+    /// Numerator of the barycentric weight of `v2`.
+    pub v: L,
+    /// Common denominator of `u` and `v`.
+    pub scale: L,
+}
+
+impl<L: Lanes> LanesHit<L> {
+    /// No lane hits.
+    #[inline(always)]
+    pub fn miss(mask: L::Mask) -> Self {
+        let zero = L::zero();
+        Self {
+            mask,
+            t: zero,
+            u: zero,
+            v: zero,
+            scale: L::splat(1.0),
+        }
+    }
+
+    /// The barycentric weights of `v1` and `v2`: `(u/scale, v/scale)`, one correctly rounded
+    /// division each, with −0 made +0.
+    #[inline(always)]
+    pub fn barycentrics(&self) -> (L, L) {
+        barycentrics(self.u, self.v, self.scale)
+    }
+}
+
+/// `(u/scale + 0, v/scale + 0)`: the barycentrics every query reports (one correctly rounded
+/// division each; `+ 0` makes −0 into +0, the one canonical zero, and changes nothing else).
+#[inline(always)]
+pub fn barycentrics<L: Lanes>(u: L, v: L, scale: L) -> (L, L) {
+    (u / scale + L::zero(), v / scale + L::zero())
+}
+
+/// The sphere kernels' answer from their two roots (`near ≤ far`, or NaN): the nearer root in
+/// range, else the farther (an origin inside the sphere), on the lanes of `mask`.
+#[cfg(feature = "sphere")]
+#[inline(always)]
+pub(crate) fn nearest_root_in_range<L: Lanes>(
+    ray: &RayLanes<L>,
+    mask: L::Mask,
+    near: L,
+    far: L,
+) -> LanesHit<L> {
+    let near_ok = t_in_range(ray, near);
+    let far_ok = t_in_range(ray, far);
+    LanesHit {
+        mask: mask & (near_ok | far_ok),
+        // `+ 0`: the canonical zero (−0 becomes +0).
+        t: L::select(near_ok, near, far) + L::zero(),
+        u: L::zero(),
+        v: L::zero(),
+        scale: L::splat(1.0),
+    }
+}
+
+/// The range check every kernel ends with: `t` is a finite f32 value (for f64 lanes: within
+/// `±f32::MAX`, so it stays finite when read out as f32) inside `[t_min, t_max]`.
+#[cfg(any(feature = "triangle", feature = "sphere"))]
+#[inline(always)]
+pub(crate) fn t_in_range<L: Lanes>(ray: &RayLanes<L>, t: L) -> L::Mask {
+    t.le(L::splat(f32::MAX)) & t.ge(L::splat(-f32::MAX)) & t.ge(ray.t_min) & t.le(ray.t_max)
+}
