@@ -17,7 +17,7 @@ use octoray::core::{RayLanes, VertexTriangle};
 use octoray::packet::f32x8;
 use octoray::{Hit, PackedSphere, PackedTriangle, Ray};
 
-const STORED: u64 = 0x377f_aa97_b252_7835;
+const STORED: u64 = 0x774a_d381_4339_3119;
 
 /// FNV-1a over 32-bit words.
 struct Fnv(u64);

@@ -195,3 +195,36 @@ fn sphere_hit_point_is_finite_when_o_plus_t_d_overflows_f32() {
         "re-projected onto the sphere: {p:?}"
     );
 }
+
+#[test]
+fn watertight_keeps_the_thin_triangle_hit_of_issue_11() {
+    // Issue 11's reproducer: an exact hit at t ≈ 0.9995, far in front of the origin, that the
+    // f32 watertight tier rejected because neither "provably in front" condition held.
+    use octoray::core::intersect;
+    let v = Vec3::new;
+    let ray = Ray::new(
+        v(1108.6238, 699.8606, 1299.9575),
+        v(-10.165161, 0.1739502, 0.9506836),
+    );
+    let tri = VertexTriangle::new(
+        v(2066.9294, 700.36707, 1299.9707),
+        v(2088.1172, 700.38184, 1299.9851),
+        v(1000.0, 700.0, 1301.0),
+    );
+    let f64_hit = intersect::<f64, Watertight>(&ray, &tri).expect("f64 watertight hits");
+    let h = intersect::<f32, Watertight>(&ray, &tri).expect("f32 watertight must hit too");
+    // The ray meets this needle at 0.13° (cos θ = 2.4e-3, sin α ≈ 1e-3), so the f32 t bound
+    // 8ε·max(t, reach)/(|cos θ|·sin α) is about 40 here; measured off by 0.015.
+    assert!((h.t - 0.9995).abs() < 0.05, "{h:?}");
+    assert!((f64_hit.t - 0.9995).abs() < 1e-3, "{f64_hit:?}");
+    for got in [
+        closest_hit::<f32x8, Watertight>(&RayLanes::load(&[ray; 3]), &[tri]).lane(2),
+        closest_hit::<f32x16, Watertight>(&RayLanes::load(&[ray]), &[tri]).lane(0),
+    ] {
+        assert_eq!(
+            got.map(|g| g.t.to_bits()),
+            Some(h.t.to_bits()),
+            "packets agree"
+        );
+    }
+}

@@ -184,6 +184,13 @@ pub trait Lanes:
         Self::splat(0.0)
     }
 
+    /// The mask whose lane `i` is bit `i` of `bits`.
+    #[inline(always)]
+    fn mask_from_bits(bits: u32) -> Self::Mask {
+        Self::from_fn(|i| Self::Scalar::from_f32(if (bits >> i) & 1 == 1 { 1.0 } else { 0.0 }))
+            .gt(Self::zero())
+    }
+
     /// `if self < rhs { self } else { rhs }` per lane: `rhs` when either is NaN (x86's `minps`
     /// rule, one instruction there; a compare and a blend elsewhere, with the same result).
     #[inline(always)]
