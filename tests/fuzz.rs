@@ -445,6 +445,14 @@ fn run_ingest(rng: &mut Rng) {
     let _ = ingest::positions_from_flat(&flat);
 }
 
+/// BVH answers that differ from brute force where nearest is undecidable at the tier's accuracy.
+static DECIDED_WITHIN_ERROR: std::sync::atomic::AtomicUsize =
+    std::sync::atomic::AtomicUsize::new(0);
+
+fn key(h: Option<Hit>) -> Option<(u32, u32, u32)> {
+    h.map(|h| (h.t.to_bits(), h.u.to_bits(), h.prim))
+}
+
 /// A hostile scene through the BVH: build never panics, answers equal brute force.
 fn run_bvh(rng: &mut Rng) -> usize {
     let n = 1 + rng.below(64) as usize;
@@ -467,16 +475,33 @@ fn run_bvh(rng: &mut Rng) -> usize {
             if tiny(brute.lane(i)) || tiny(packet.lane(i)) {
                 continue;
             }
-            let want = brute
-                .lane(i)
-                .map(|h| (h.t.to_bits(), h.u.to_bits(), h.prim));
-            let key = |h: Option<Hit>| h.map(|h| (h.t.to_bits(), h.u.to_bits(), h.prim));
-            assert_eq!(key(packet.lane(i)), want, "bvh packet, {r:?}");
-            assert_eq!(
-                key(bvh_closest::<f32x8, Watertight>(tree.as_ref(), r)),
-                want,
-                "bvh single, {r:?}"
-            );
+            let want = brute.lane(i);
+            for (got, how) in [
+                (packet.lane(i), "packet"),
+                (bvh_closest::<f32x8, Watertight>(tree.as_ref(), r), "single"),
+            ] {
+                if key(got) == key(want) {
+                    continue;
+                }
+                // Allowed only where nearest is undecidable at the tier's accuracy (the BVH
+                // contract): both hits, their t within the kernels' t error bounds.
+                let (Some(g), Some(w)) = (got, want) else {
+                    panic!("bvh {how}: {got:?} vs brute force {want:?} for {r:?}");
+                };
+                let bound = |h: Hit| {
+                    let t = verts[h.prim as usize];
+                    let v = [t.v0, t.v1, t.v2].map(Vec3::from);
+                    let (e1, e2) = ((v[1] - v[0]).as_dvec3(), (v[2] - v[0]).as_dvec3());
+                    let sin_a = e1.cross(e2).length() / (e1.length() * e2.length());
+                    8.0 * EPS * TriCase { ray: *r, v }.t_scale(f64::from(h.t)) / sin_a
+                };
+                let (gap, allowed) = ((f64::from(g.t) - f64::from(w.t)).abs(), bound(g) + bound(w));
+                assert!(
+                    gap <= allowed || !allowed.is_finite(),
+                    "bvh {how}: {g:?} vs brute force {w:?}, t gap {gap:e} beyond the t error bounds {allowed:e} for {r:?}"
+                );
+                DECIDED_WITHIN_ERROR.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            }
         }
     }
     rays.len()
@@ -525,7 +550,8 @@ fn fuzz(seed: u64, n: usize) -> (usize, usize) {
 fn fuzz_fast_slice() {
     let (n, bvh) = fuzz(0x0c70_7a11, 20_000);
     let skipped = OUT_OF_RANGE.load(std::sync::atomic::Ordering::Relaxed);
-    println!("{n} cases per entry point, {bvh} BVH rays; {skipped} hits outside the documented range (underflow) not oracle-checked");
+    let within = DECIDED_WITHIN_ERROR.load(std::sync::atomic::Ordering::Relaxed);
+    println!("{n} cases per entry point, {bvh} BVH rays ({within} answers differ from brute force within the t error bound); {skipped} hits outside the documented range (underflow) not oracle-checked");
 }
 
 #[test]
@@ -533,5 +559,6 @@ fn fuzz_fast_slice() {
 fn fuzz_large_run() {
     let (n, bvh) = fuzz(0x5eed_0001, 10_000_000);
     let skipped = OUT_OF_RANGE.load(std::sync::atomic::Ordering::Relaxed);
-    println!("{n} cases per entry point, {bvh} BVH rays: clean; {skipped} hits outside the documented range (underflow) not oracle-checked");
+    let within = DECIDED_WITHIN_ERROR.load(std::sync::atomic::Ordering::Relaxed);
+    println!("{n} cases per entry point, {bvh} BVH rays: clean ({within} answers differ from brute force within the t error bound); {skipped} hits outside the documented range (underflow) not oracle-checked");
 }

@@ -18,12 +18,15 @@
 //! primitive index wins. That holds because every box test is conservative ([`slab`]): a box is
 //! skipped only when no kernel can report a hit inside it, including hits its rounding places
 //! slightly outside the exact primitive (the boxes carry a slack of 2⁻¹⁷ of the coordinates'
-//! magnitude, ≈ 128 ulp, and the ray's origin adds its own). The one documented exception is a
-//! kernel `t` whose error exceeds that slack along the ray, which the kernels' contracts allow only
-//! for rays within ~1e-5 rad of grazing a primitive whose hit lies near the current `t_max`, and
-//! for `t` below ~1e-30 (directions ~1e30 times the scene's size), where the kernels' products
-//! underflow (found by the fuzz harness: a watertight hit reported at t = 0 for an exact t of
-//! 3e-36).
+//! magnitude, ≈ 128 ulp, and the ray's origin adds its own). The exception: the boxes' slack
+//! covers a kernel's `t` error up to about `128·ε·reach`, while the kernels' contracts allow
+//! `8·ε·max(t, reach)/(|cos θ|·sin α)`. When a kernel's `t` error exceeds the slack (a ray
+//! meeting a triangle at |cos θ|·sin α ≲ 1/16, from far away) *and* another hit lies within that
+//! error of it (or `t_min`/`t_max` does), which one is nearest is undecidable at the tier's
+//! accuracy, and the tree may report the other: a hit either way, within the tier's `t` error of
+//! brute force's. The same holds where the kernels underflow (`t ≲ 1e-30`, see the watertight
+//! contract). The fuzz harness found both (tests/fuzz.rs checks exactly this allowance); on the
+//! proptest scenes of `tests/bvh.rs` the answers are bit-equal.
 //!
 //! Primitives with a non-finite coordinate are left out of the tree (no kernel can hit them).
 //! Primitive indices are `u32`, and a tree holds at most [`MAX_PRIMS`] primitives.
