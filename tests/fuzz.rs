@@ -171,21 +171,28 @@ fn point_triangle_distance(p: octoray::glam::DVec3, v: [octoray::glam::DVec3; 3]
     }
 }
 
-/// Cases outside the kernels' documented range: products underflow where `r³/|d| < 1e-30`
-/// (`r = max|v − o|`, the watertight contract) or an edge's square is subnormal (the standard
-/// tier's range, the recommender's `smallest_feature ≥ 1e-12`). Counted, not checked.
+/// Cases outside the kernels' documented range: products underflow where `ρ²·|t| < 1e-30`
+/// (`ρ` the vertices' largest distance from the ray's line, `t` the plane distance in units of
+/// `d`: the watertight contract) or an edge's square is subnormal (the standard tier's range, the
+/// recommender's `smallest_feature ≥ 1e-12`). Counted, not checked.
 static OUT_OF_RANGE: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
 
 fn underflow_regime(ray: &Ray, v: [Vec3; 3]) -> bool {
     let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
-    let r = v
+    let dd = d.length_squared();
+    // ρ: distance of each vertex from the ray's line; depth: its t along the ray.
+    let rho = v
         .iter()
-        .map(|p| (p.as_dvec3() - o).length())
+        .map(|p| (p.as_dvec3() - o).cross(d).length() / dd.sqrt())
+        .fold(0.0, f64::max);
+    let depth = v
+        .iter()
+        .map(|p| ((p.as_dvec3() - o).dot(d) / dd).abs())
         .fold(0.0, f64::max);
     let edge = (0..3)
         .map(|k| (v[(k + 1) % 3] - v[k]).as_dvec3().length())
         .fold(f64::INFINITY, f64::min);
-    r * r * r / d.length() < 1e-30 || (edge > 0.0 && edge * edge < 1e-30)
+    rho * rho * depth < 1e-30 || (edge > 0.0 && edge * edge < 1e-30)
 }
 
 /// The exact oracle's verdict on a reported triangle hit: allowed unless the exact answer is a
@@ -471,8 +478,14 @@ fn run_bvh(rng: &mut Rng) -> usize {
             // Below 1e-30 the kernels' products underflow (directions ~1e30 times the scene):
             // their t is then off by more than the boxes' slack, the BVH contract's stated
             // exception (the kernels' contracts state the range).
-            let tiny = |h: Option<Hit>| h.is_some_and(|h| h.t.abs() < 1e-30);
+            let tiny = |h: Option<Hit>| {
+                h.is_some_and(|h| {
+                    let t = verts[h.prim as usize];
+                    h.t.abs() < 1e-30 || underflow_regime(r, [t.v0, t.v1, t.v2].map(Vec3::from))
+                })
+            };
             if tiny(brute.lane(i)) || tiny(packet.lane(i)) {
+                OUT_OF_RANGE.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                 continue;
             }
             let want = brute.lane(i);

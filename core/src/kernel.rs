@@ -6,7 +6,7 @@
 //! | standard | [`Standard`] | [`PackedTriangle`] | [`crate::moller_trumbore`] |
 //! | watertight | [`Watertight`] | [`VertexTriangle`] | [`crate::watertight`] |
 //! | fast | [`Fast`] | [`PackedTriangle`] | [`crate::moller_trumbore_fast`] |
-//! | f64 | any of the above at `L = f64`, `f64x4`, `f64x8` | same | same math, f64 rounding |
+//! | f64 | the standard, watertight and sphere kernels at `L = f64`, `f64x4`, `f64x8` (not the fast tier: it exists only at f32 widths) | same | same math, f64 rounding |
 //! | sphere stable | [`StableSphere`] | [`PackedSphere`] | [`crate::sphere_stable`] |
 //! | sphere naive | [`NaiveSphere`] | [`PackedSphere`] | [`crate::sphere_naive`] |
 //!

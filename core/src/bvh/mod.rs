@@ -24,7 +24,7 @@
 //! meeting a triangle at |cos θ|·sin α ≲ 1/16, from far away) *and* another hit lies within that
 //! error of it (or `t_min`/`t_max` does), which one is nearest is undecidable at the tier's
 //! accuracy, and the tree may report the other: a hit either way, within the tier's `t` error of
-//! brute force's. The same holds where the kernels underflow (`t ≲ 1e-30`, see the watertight
+//! brute force's. The same holds where the kernels underflow (`ρ²·t ≲ 1e-30`, see the watertight
 //! contract). The fuzz harness found both (tests/fuzz.rs checks exactly this allowance); on the
 //! proptest scenes of `tests/bvh.rs` the answers are bit-equal.
 //!
