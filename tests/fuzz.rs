@@ -249,7 +249,12 @@ fn check_oracle(ray: &Ray, v: [Vec3; 3], packed: bool, t: f32, what: &str) {
     // which the contracts state as a 1/sin α factor on the t bound.
     let (e1, e2) = ((v[1] - v[0]).as_dvec3(), (v[2] - v[0]).as_dvec3());
     let sin_a = e1.cross(e2).length() / (e1.length() * e2.length());
-    let slack = 32.0 * EPS * c.t_scale(truth.t) / sin_a;
+    // An exact t beyond f64's range (a ray all but parallel to the plane) has no finite bound.
+    let slack = if truth.t.is_finite() {
+        32.0 * EPS * c.t_scale(truth.t) / sin_a
+    } else {
+        f64::INFINITY
+    };
     let near_range = (above_min && below_max)
         || (truth.t >= f64::from(ray.t_min) - slack && truth.t <= f64::from(ray.t_max) + slack)
         || !slack.is_finite();
