@@ -21,8 +21,9 @@
 //! - Not watertight: a ray through a shared edge or vertex can miss both neighbours when the
 //!   rounded edge functions disagree in sign. Use the watertight tier where that matters.
 //! - Reported hits always have finite `t ∈ [t_min, t_max]`, finite `u, v ≥ 0` with `u + v ≲ 1`.
-//!   Non-finite inputs, zero directions, zero-area triangles, rays in or parallel to the plane,
-//!   and products that overflow (coordinates beyond ~1e12) are misses.
+//!   Non-finite inputs, zero directions, zero-area triangles (also needles whose packed edges
+//!   are parallel: `|det| ≤ 8ε·|d|₁·|e1|₁·|e2|₁` is a miss), rays in or parallel to the plane
+//!   (within ~1e-6 rad), and products that overflow (coordinates beyond ~1e12) are misses.
 //! - Range of the bounds above: every product of the inputs must stay a normal f32. Where
 //!   `|d|·|v − o| < 1e-30` (a subnormal or tiny direction) the products `s × d` go subnormal and
 //!   `t` loses its relative accuracy (the fuzz harness saw t = 2.0e38 for an exact 4e38 with
@@ -32,6 +33,10 @@ use crate::hit::{t_in_range, LanesHit};
 use crate::lanes::{LaneMask, Lanes};
 use crate::prim::{EdgeLanes, Primitive};
 use crate::ray::{PackedTriangle, RayLanes};
+use crate::vec3::V3;
+
+/// `8ε`: the multiple of `|d|₁·|e1|₁·|e2|₁` below which `det` is rounding noise.
+const DET_NOISE: f32 = 8.0 / 16_777_216.0;
 
 /// Tests every lane of `ray` against one triangle, two-sided.
 #[inline(always)]
@@ -74,6 +79,16 @@ pub fn intersect_with<L: Lanes, const CULL: bool>(
     if CULL {
         mask = mask & det.gt(zero);
     }
+    if mask.none() {
+        return LanesHit::miss(mask);
+    }
+    // det is rounding noise when it is below its own error bound, ≲ 3ε·|d|·|e1|·|e2| (L1 norms,
+    // the cancellation in e1 × e2 included): a zero-area triangle (a needle whose packed edges
+    // are parallel) or a ray within ~1e-6 rad of the plane. Such lanes are misses (found by the
+    // fuzz harness: a "hit" 3e18 away from a degenerate 1e19 needle). Off the common path.
+    let norm1 = |v: V3<L>| v.x.abs() + v.y.abs() + v.z.abs();
+    let det_noise = L::splat(DET_NOISE) * norm1(ray.dir) * (norm1(e1) * norm1(e2));
+    mask = mask & abs_det.gt(det_noise);
     if mask.none() {
         return LanesHit::miss(mask);
     }
