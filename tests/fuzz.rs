@@ -247,8 +247,7 @@ fn check_oracle(ray: &Ray, v: [Vec3; 3], packed: bool, t: f32, what: &str) {
     let below_max = ray.t_max == f32::INFINITY || truth.t_cmp(ray.t_max) != Greater;
     // Needle triangles: Ng = e1 × e2 carries a relative error of ε/sin α (α the angle at v0),
     // which the contracts state as a 1/sin α factor on the t bound.
-    let (e1, e2) = ((v[1] - v[0]).as_dvec3(), (v[2] - v[0]).as_dvec3());
-    let sin_a = e1.cross(e2).length() / (e1.length() * e2.length());
+    let sin_a = sin_smallest_angle(v);
     // An exact t beyond f64's range (a ray all but parallel to the plane) has no finite bound.
     let slack = if truth.t.is_finite() {
         32.0 * EPS * c.t_scale(truth.t) / sin_a
@@ -466,13 +465,24 @@ fn run_ingest(rng: &mut Rng) {
 static DECIDED_WITHIN_ERROR: std::sync::atomic::AtomicUsize =
     std::sync::atomic::AtomicUsize::new(0);
 
-/// The tiers' documented t error bound for hit `h` of ray `r`: `8·ε·t_scale/sin α`.
+/// Sine of the triangle's smallest angle: `2·area / (longest edge · second longest)`.
+fn sin_smallest_angle(v: [Vec3; 3]) -> f64 {
+    let v = v.map(|p| p.as_dvec3());
+    let mut l = [
+        (v[1] - v[0]).length(),
+        (v[2] - v[1]).length(),
+        (v[0] - v[2]).length(),
+    ];
+    l.sort_by(f64::total_cmp);
+    (v[1] - v[0]).cross(v[2] - v[0]).length() / (l[2] * l[1])
+}
+
+/// The tiers' documented t error bound for hit `h` of ray `r`: `8·ε·t_scale/sin α`, α the
+/// smallest angle.
 fn t_bound(r: &Ray, verts: &[VertexTriangle], h: Hit) -> f64 {
     let t = verts[h.prim as usize];
     let v = [t.v0, t.v1, t.v2].map(Vec3::from);
-    let (e1, e2) = ((v[1] - v[0]).as_dvec3(), (v[2] - v[0]).as_dvec3());
-    let sin_a = e1.cross(e2).length() / (e1.length() * e2.length());
-    8.0 * EPS * TriCase { ray: *r, v }.t_scale(f64::from(h.t)) / sin_a
+    8.0 * EPS * TriCase { ray: *r, v }.t_scale(f64::from(h.t)) / sin_smallest_angle(v)
 }
 
 fn key(h: Option<Hit>) -> Option<(u32, u32, u32)> {

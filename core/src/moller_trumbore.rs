@@ -9,7 +9,7 @@
 //!   loses an order of magnitude more on grazing rays.
 //! - **t error bound:** `|t − t_exact| ≤ 8·ε·max(|t|, reach)/(|cos θ|·sin α)`, with ε = 2⁻²⁴,
 //!   `reach = (|o − v0| + |e1| + |e2|)/|d|`, θ the angle between the ray and the normal and α the
-//!   triangle's angle at `v0` (t is a plane distance: near t = 0 and at grazing angles its
+//!   triangle's smallest angle (t is a plane distance: near t = 0 and at grazing angles its
 //!   *relative* error is unbounded; for needle triangles the computed normal `e1 × e2` itself is
 //!   off by ε/sin α, which the fuzz harness found: a needle 5e7 long and 6e-8 wide gave t = 0 for
 //!   an exact t of −41).

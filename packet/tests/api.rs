@@ -1,6 +1,8 @@
 //! The packet crate's own tests: every tier reachable at every width through its batch calls,
 //! agreeing with the scalar twin; the scene calls agreeing with the slice calls; and the API
 //! traps of issue 12 (lane bounds, length mismatches).
+#![cfg(all(feature = "triangle", feature = "sphere", feature = "alloc"))]
+
 use octoray_core::glam::Vec3;
 use octoray_packet::tiers::{
     Fast, Kernel, NaiveSphere, StableSphere, Standard, StandardCulled, Watertight, WatertightCulled,
