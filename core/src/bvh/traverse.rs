@@ -233,12 +233,6 @@ struct PacketBest<L: Lanes> {
     id: L::Index,
 }
 
-/// Lanes from a bitmask.
-#[inline(always)]
-fn mask_of<L: Lanes>(bits: u32) -> L::Mask {
-    L::from_fn(|i| L::Scalar::from_f32(if (bits >> i) & 1 == 1 { 1.0 } else { 0.0 })).gt(L::zero())
-}
-
 /// Lanes at which a packet continues ray by ray.
 #[inline(always)]
 fn hybrid_threshold<L: Lanes>() -> u32 {
@@ -313,10 +307,10 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
                 );
                 if ANY {
                     if hit {
-                        best.mask = best.mask | mask_of::<L>(1 << i);
+                        best.mask = best.mask | L::mask_from_bits(1 << i);
                     }
                 } else if let Some(o) = one {
-                    let m = mask_of::<L>(1 << i);
+                    let m = L::mask_from_bits(1 << i);
                     best.mask = best.mask | m;
                     best.t = L::select(m, L::splat_scalar(o.t), best.t);
                     best.u = L::select(m, L::splat_scalar(o.u), best.u);
@@ -350,7 +344,7 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
                             lower |= 1 << i;
                         }
                     }
-                    m = m | (tie & mask_of::<L>(lower));
+                    m = m | (tie & L::mask_from_bits(lower));
                 }
                 best.mask = best.mask | m;
                 best.t = L::select(m, h.t, best.t);
