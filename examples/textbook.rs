@@ -4,8 +4,8 @@
 //!
 //! Run: `cargo run --example textbook`
 
-use octoray::core::textbook::{self, InsideTest, SphereOutcome, TriangleOutcome};
 use octoray::glam::Vec3;
+use octoray::textbook::{self, InsideTest, SphereOutcome, TriangleOutcome};
 use octoray::{PackedSphere, PackedTriangle, Ray, Sphere, Triangle};
 
 fn fmt(v: Vec3) -> String {
@@ -80,7 +80,7 @@ fn main() {
             );
         }
         let short = textbook::intersect_triangle(&ray, tri, InsideTest::DominantAxis);
-        let kernel = octoray::core::intersect_triangle(&ray, &PackedTriangle::from(*tri));
+        let kernel = octoray::intersect_triangle(&ray, &PackedTriangle::from(*tri));
         match s.outcome {
             TriangleOutcome::Hit(h) => println!(
                 "  all agree in sign: inside => hit at {} (t = {})",
@@ -130,7 +130,7 @@ fn main() {
             }
             SphereOutcome::Invalid => println!("  invalid input => no intersection"),
         }
-        let kernel = octoray::core::intersect_sphere(&ray, &PackedSphere::from(*sph));
+        let kernel = octoray::intersect_sphere(&ray, &PackedSphere::from(*sph));
         println!("  stable packet kernel: {:?}\n", kernel.map(|h| h.t));
     }
 }

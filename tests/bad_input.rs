@@ -5,10 +5,10 @@
 mod common;
 
 use common::*;
-use octoray::core::textbook::{self, InsideTest};
 use octoray::glam::Vec3;
-use octoray::packet::tiers::{StableSphere, Standard};
-use octoray::packet::{self, f32x16, f32x4, f32x8, LaneMask, Lanes, RayPacket};
+use octoray::packet::tiers::{MollerTrumbore, StableSphere};
+use octoray::packet::{self, f32x16, f32x4, f32x8, LaneMask, Lanes, RayLanes};
+use octoray::textbook::{self, InsideTest};
 use octoray::{PackedSphere, PackedTriangle, Ray, Sphere, Triangle};
 
 const BAD: [f32; 3] = [f32::NAN, f32::INFINITY, f32::NEG_INFINITY];
@@ -104,8 +104,8 @@ fn the_base_configurations_hit() {
     let (ray, tri, sph) = (seed_ray(), seed_triangles()[0], seed_spheres()[1]);
     assert!(textbook::intersect_triangle(&ray, &tri, InsideTest::Full).is_some());
     assert!(textbook::intersect_sphere(&ray, &sph).is_some());
-    assert!(octoray::core::intersect_triangle(&ray, &tri.into()).is_some());
-    assert!(octoray::core::intersect_sphere(&ray, &sph.into()).is_some());
+    assert!(octoray::intersect_triangle(&ray, &tri.into()).is_some());
+    assert!(octoray::intersect_sphere(&ray, &sph.into()).is_some());
 }
 
 fn assert_triangle_miss(what: &str, ray: &Ray, tri: &Triangle) {
@@ -118,7 +118,7 @@ fn assert_triangle_miss(what: &str, ray: &Ray, tri: &Triangle) {
     }
     let packed = PackedTriangle::from(*tri);
     assert_eq!(
-        octoray::core::intersect_triangle(ray, &packed),
+        octoray::intersect_triangle(ray, &packed),
         None,
         "MT twin: {what}"
     );
@@ -132,7 +132,7 @@ fn assert_sphere_miss(what: &str, ray: &Ray, s: &Sphere) {
     );
     let packed = PackedSphere::from(*s);
     assert_eq!(
-        octoray::core::intersect_sphere(ray, &packed),
+        octoray::intersect_sphere(ray, &packed),
         None,
         "stable twin: {what}"
     );
@@ -177,16 +177,16 @@ fn bad_radius_is_packed_as_nan() {
 fn no_poisoning<L: Lanes>() {
     let tris = [PackedTriangle::from(seed_triangles()[0])];
     let spheres = [PackedSphere::from(seed_spheres()[1])];
-    let alone_t = octoray::core::intersect_triangle(&seed_ray(), &tris[0]).unwrap();
-    let alone_s = octoray::core::intersect_sphere(&seed_ray(), &spheres[0]).unwrap();
+    let alone_t = octoray::intersect_triangle(&seed_ray(), &tris[0]).unwrap();
+    let alone_s = octoray::intersect_sphere(&seed_ray(), &spheres[0]).unwrap();
     for (what, bad) in bad_rays() {
         let rays: Vec<Ray> = (0..L::LANES)
             .map(|i| if i % 2 == 0 { seed_ray() } else { bad })
             .collect();
-        let p = RayPacket::<L>::load(&rays);
-        let ht = packet::query::closest_hit::<_, Standard>(&p, &tris);
-        let hs = packet::query::closest_hit::<_, StableSphere>(&p, &spheres);
-        let occ = packet::query::any_hit::<_, Standard>(&p, &tris).bitmask();
+        let p = RayLanes::<L>::load(&rays);
+        let ht = packet::query::closest::<_, MollerTrumbore>(&p, &tris);
+        let hs = packet::query::closest::<_, StableSphere>(&p, &spheres);
+        let occ = packet::query::occluded::<_, MollerTrumbore>(&p, &tris).bitmask();
         for i in 0..L::LANES {
             if i % 2 == 0 {
                 assert_eq!(ht.lane(i), Some(alone_t), "{what}: lane {i}");

@@ -3,26 +3,26 @@
 //! degenerate and zero-area triangles, axis-aligned quads, scales 1e-6…1e6, offsets to 1e6) and
 //! rays (from inside and outside the scene's bounds, axis-parallel with ±0 components, aimed at
 //! vertices and edges, with ranges, and invalid), the single-ray, packet and batch traversals give
-//! the same hit/miss, `t`, `u`, `v` bits and primitive index as `query::closest_hit` over the
-//! slice, and the same occlusion as `query::any_hit`.
+//! the same hit/miss, `t`, `u`, `v` bits and primitive index as `query::closest` over the
+//! slice, and the same occlusion as `query::occluded`.
 #![cfg(all(feature = "triangle", feature = "sphere", feature = "alloc"))]
 mod common;
 
 use common::mesh::crack_suite_with;
 use common::Rng;
-use octoray::core::bvh::traverse::{
-    any_hit, any_hit_packet, closest_hit, closest_hit_packet, closest_hits, closest_t_packet,
-    occluded,
+use octoray::bvh::traverse::{
+    closest, closest_packet, closest_ray, closest_t_packet, occluded, occluded_packet, occluded_ray,
 };
-use octoray::core::bvh::{Bvh8, Bvh8Node, Bvh8Ref, BvhError, EMPTY};
-use octoray::core::kernel::{
-    Fast, Kernel, NaiveSphere, StableSphere, Standard, StandardCulled, Watertight, WatertightCulled,
-};
-use octoray::core::query;
-use octoray::core::{LaneMask, Lanes, RayLanes, Scalar};
+use octoray::bvh::{Bvh8, Bvh8Node, Bvh8Ref, BvhError, EMPTY};
 use octoray::glam::Vec3;
+use octoray::kernels::{
+    Kernel, MollerTrumbore, MollerTrumboreCulled, MollerTrumboreFast, NaiveSphere, StableSphere,
+    Watertight, WatertightCulled,
+};
 use octoray::packet::{f32x16, f32x4, f32x8};
+use octoray::query;
 use octoray::{Hit, PackedSphere, PackedTriangle, Ray, VertexTriangle};
+use octoray::{LaneMask, Lanes, RayLanes, Scalar};
 use proptest::prelude::*;
 use wide::f64x4;
 
@@ -35,17 +35,17 @@ fn check<L: Lanes, K: Kernel<L>>(prims: &[K::Prim], rays: &[Ray]) -> usize {
     let tree = Bvh8::build(prims);
     let bvh = tree.as_ref();
     let mut batch = vec![None; rays.len()];
-    closest_hits::<L, K>(bvh, rays, &mut batch);
+    closest::<L, K>(bvh, rays, &mut batch);
     let mut occ = vec![false; rays.len()];
     occluded::<L, K>(bvh, rays, &mut occ);
     let mut hits = 0;
     for (c, chunk) in rays.chunks(L::LANES).enumerate() {
         let p = RayLanes::<L>::load(chunk);
-        let brute = query::closest_hit::<L, K>(&p, prims);
-        let packet = closest_hit_packet::<L, K>(bvh, &p);
+        let brute = query::closest::<L, K>(&p, prims);
+        let packet = closest_packet::<L, K>(bvh, &p);
         let (tm, tt) = closest_t_packet::<L, K>(bvh, &p);
-        let any_brute = query::any_hit::<L, K>(&p, prims).bitmask();
-        let any_packet = any_hit_packet::<L, K>(bvh, &p).bitmask();
+        let any_brute = query::occluded::<L, K>(&p, prims).bitmask();
+        let any_packet = occluded_packet::<L, K>(bvh, &p).bitmask();
         for (i, ray) in chunk.iter().enumerate() {
             let want = bits(brute.lane(i));
             let k = c * L::LANES + i;
@@ -57,7 +57,7 @@ fn check<L: Lanes, K: Kernel<L>>(prims: &[K::Prim], rays: &[Ray]) -> usize {
                 std::any::type_name::<L>()
             );
             assert_eq!(
-                bits(closest_hit::<L, K>(bvh, ray)),
+                bits(closest_ray::<L, K>(bvh, ray)),
                 want,
                 "single, ray {ray:?}"
             );
@@ -70,7 +70,7 @@ fn check<L: Lanes, K: Kernel<L>>(prims: &[K::Prim], rays: &[Ray]) -> usize {
             let a = (any_brute >> i) & 1 == 1;
             assert_eq!(a, want.is_some(), "any-hit agrees with closest-hit");
             assert_eq!((any_packet >> i) & 1 == 1, a, "any packet, ray {ray:?}");
-            assert_eq!(any_hit::<L, K>(bvh, ray), a, "any single, ray {ray:?}");
+            assert_eq!(occluded_ray::<L, K>(bvh, ray), a, "any single, ray {ray:?}");
             assert_eq!(occ[k], a, "occluded batch, ray {ray:?}");
         }
     }
@@ -202,13 +202,13 @@ fn triangle_scene(seed: u64) {
         .iter()
         .map(|t| VertexTriangle::new(t[0], t[1], t[2]))
         .collect();
-    check::<f32x8, Standard>(&packed, &rays);
-    check::<f32x16, Standard>(&packed, &rays);
-    check::<f32x4, StandardCulled>(&packed, &rays);
+    check::<f32x8, MollerTrumbore>(&packed, &rays);
+    check::<f32x16, MollerTrumbore>(&packed, &rays);
+    check::<f32x4, MollerTrumboreCulled>(&packed, &rays);
     check::<f32x8, Watertight>(&verts, &rays);
     check::<f32x16, WatertightCulled>(&verts, &rays);
-    check::<f32x8, Fast>(&packed, &rays);
-    check::<f64x4, Standard>(&packed, &rays);
+    check::<f32x8, MollerTrumboreFast>(&packed, &rays);
+    check::<f64x4, MollerTrumbore>(&packed, &rays);
     check::<f64x4, Watertight>(&verts, &rays);
 }
 
@@ -263,7 +263,7 @@ fn many_hits_are_checked() {
         .iter()
         .map(|t| PackedTriangle::new(t[0], t[1], t[2]))
         .collect();
-    let hits = check::<f32x8, Standard>(&packed, &rays);
+    let hits = check::<f32x8, MollerTrumbore>(&packed, &rays);
     assert!(hits > 100, "only {hits} hits of 512 rays");
 }
 
@@ -290,7 +290,7 @@ fn ties_go_to_the_lower_index_like_brute_force() {
     check::<f32x8, Watertight>(&tris, &rays);
     let bvh = Bvh8::build(&tris);
     assert_eq!(
-        closest_hit::<f32x8, Watertight>(bvh.as_ref(), &rays[0])
+        closest_ray::<f32x8, Watertight>(bvh.as_ref(), &rays[0])
             .unwrap()
             .prim,
         2
@@ -326,10 +326,10 @@ fn empty_and_unhittable_scenes_miss() {
     let none: Vec<PackedTriangle> = vec![];
     let b = Bvh8::build(&none);
     assert_eq!(b.stats().prims, 0);
-    assert_eq!(closest_hit::<f32x8, Standard>(b.as_ref(), &ray), None);
+    assert_eq!(closest_ray::<f32x8, MollerTrumbore>(b.as_ref(), &ray), None);
     let p = RayLanes::<f32x8>::load(&[ray; 8]);
     assert_eq!(
-        closest_hit_packet::<f32x8, Standard>(b.as_ref(), &p)
+        closest_packet::<f32x8, MollerTrumbore>(b.as_ref(), &p)
             .mask
             .bitmask(),
         0
@@ -341,7 +341,7 @@ fn empty_and_unhittable_scenes_miss() {
     ];
     let b = Bvh8::build(&bad);
     assert_eq!((b.stats().prims, b.stats().skipped), (0, 2));
-    assert_eq!(closest_hit::<f32x8, Standard>(b.as_ref(), &ray), None);
+    assert_eq!(closest_ray::<f32x8, MollerTrumbore>(b.as_ref(), &ray), None);
 }
 
 #[test]
@@ -362,8 +362,8 @@ fn build_is_deterministic_and_plain_data() {
     let r = Bvh8Ref::new(&nodes, a.prims(), a.ids()).expect("valid tree");
     let ray = Ray::new(Vec3::new(0.0, 0.0, -1e7), Vec3::Z);
     assert_eq!(
-        bits(closest_hit::<f32x8, Watertight>(r, &ray)),
-        bits(query::closest_hit::<f32, Watertight>(&RayLanes::single(&ray), &verts).lane(0))
+        bits(closest_ray::<f32x8, Watertight>(r, &ray)),
+        bits(query::closest::<f32, Watertight>(&RayLanes::single(&ray), &verts).lane(0))
     );
 }
 
@@ -409,7 +409,7 @@ fn batch_length_mismatch_panics() {
     let tris = [PackedTriangle::new(Vec3::ZERO, Vec3::X, Vec3::Y)];
     let b = Bvh8::build(&tris);
     let mut out = [None; 3];
-    closest_hits::<f32x8, Standard>(b.as_ref(), &[Ray::new(Vec3::ZERO, Vec3::Z); 4], &mut out);
+    closest::<f32x8, MollerTrumbore>(b.as_ref(), &[Ray::new(Vec3::ZERO, Vec3::Z); 4], &mut out);
 }
 
 #[test]
@@ -421,8 +421,8 @@ fn regression_fast_tier_hit_on_a_zero_area_triangle() {
 
 #[test]
 fn slab_test_keeps_rays_in_a_face_plane_and_handles_signed_zero_and_subnormal_directions() {
-    use octoray::core::bvh::slab::{slab, BoxRay};
-    use octoray::core::V3;
+    use octoray::bvh::slab::{slab, BoxRay};
+    use octoray::V3;
     let lo = V3::<f32>::splat([0.0, 0.0, 0.0]);
     let hi = V3::<f32>::splat([1.0, 1.0, 1.0]);
     let ray = |o: Vec3, d: Vec3| BoxRay::<f32>::new(&RayLanes::single(&Ray::new(o, d)));

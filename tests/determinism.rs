@@ -11,11 +11,11 @@ mod common;
 use common::accuracy::{
     distant_sphere_cases, edge_cases, grazing_cases, near_sphere_cases, random_cases,
 };
-use octoray::core::kernel::{Kernel, StableSphere, Standard, Watertight};
-use octoray::core::query::closest_hit;
-use octoray::core::{RayLanes, VertexTriangle};
+use octoray::kernels::{Kernel, MollerTrumbore, StableSphere, Watertight};
 use octoray::packet::f32x8;
+use octoray::query::closest;
 use octoray::{Hit, PackedSphere, PackedTriangle, Ray};
+use octoray::{RayLanes, VertexTriangle};
 
 const STORED: u64 = 0x774a_d381_4339_3119;
 
@@ -46,9 +46,9 @@ where
     P: Copy,
 {
     for (chunk, group) in rays.chunks(8).zip(prims.chunks(8)) {
-        let p = closest_hit::<f32x8, K>(&RayLanes::load(chunk), group);
+        let p = closest::<f32x8, K>(&RayLanes::load(chunk), group);
         for (i, r) in chunk.iter().enumerate() {
-            f.hit(closest_hit::<f32, K>(&RayLanes::single(r), group).lane(0));
+            f.hit(closest::<f32, K>(&RayLanes::single(r), group).lane(0));
             f.hit(p.lane(i));
         }
     }
@@ -68,7 +68,7 @@ fn digest() -> u64 {
         .iter()
         .map(|c| VertexTriangle::new(c.v[0], c.v[1], c.v[2]))
         .collect();
-    digest_kernel::<Standard, _>(&mut f, &rays, &packed);
+    digest_kernel::<MollerTrumbore, _>(&mut f, &rays, &packed);
     digest_kernel::<Watertight, _>(&mut f, &rays, &verts);
     let mut sc = near_sphere_cases(7004, 4000);
     sc.extend(distant_sphere_cases(7005, 4000, 1e3));

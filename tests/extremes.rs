@@ -7,8 +7,8 @@ mod common;
 use common::accuracy::{SphereCase, SphereTier, TriCase, TriTier};
 use common::{oracle, Rng};
 use glam::Vec3;
-use octoray::core::offset::{offset_ray_origin, sphere_hit_point, triangle_hit_point};
-use octoray::core::{intersect, Standard, VertexTriangle, Watertight};
+use octoray::shading::offset::{offset_ray_origin, sphere_hit_point, triangle_hit_point};
+use octoray::{intersect, MollerTrumbore, VertexTriangle, Watertight};
 use octoray::{Hit, PackedTriangle, Ray};
 
 fn v(x: f32, y: f32, z: f32) -> Vec3 {
@@ -385,10 +385,11 @@ fn spawned_rays_do_not_rehit_their_own_surface() {
             }
             spawned += 1;
             let naive = Ray::new(p, w);
-            naive_rehits += usize::from(intersect::<f32, Standard>(&naive, &packed).is_some());
+            naive_rehits +=
+                usize::from(intersect::<f32, MollerTrumbore>(&naive, &packed).is_some());
             let spawn = Ray::new(offset_ray_origin(p, err, n, w), w);
             assert_eq!(
-                intersect::<f32, Standard>(&spawn, &packed),
+                intersect::<f32, MollerTrumbore>(&spawn, &packed),
                 None,
                 "standard re-hit: {spawn:?}"
             );
@@ -398,7 +399,7 @@ fn spawned_rays_do_not_rehit_their_own_surface() {
                 "watertight re-hit: {spawn:?}"
             );
             assert_eq!(
-                intersect::<f64, Standard>(&spawn, &packed),
+                intersect::<f64, MollerTrumbore>(&spawn, &packed),
                 None,
                 "f64 re-hit: {spawn:?}"
             );
@@ -423,7 +424,7 @@ fn spawned_rays_do_not_rehit_their_own_sphere() {
             // From far away (the eye at 10 radii and more), so t carries the whole ray's error.
             let o = c + rng.vec3(1.0).normalize() * (r * rng.range(10.0, 1000.0));
             let ray = Ray::new(o, c + rng.vec3(r) - o);
-            let Some(hit) = intersect::<f32, octoray::core::StableSphere>(&ray, &sphere) else {
+            let Some(hit) = intersect::<f32, octoray::StableSphere>(&ray, &sphere) else {
                 continue;
             };
             let (p, err) = sphere_hit_point(&ray, hit.t, c, r);
@@ -437,17 +438,17 @@ fn spawned_rays_do_not_rehit_their_own_sphere() {
             }
             spawned += 1;
             naive_rehits += usize::from(
-                intersect::<f32, octoray::core::StableSphere>(&Ray::new(ray.at(hit.t), w), &sphere)
+                intersect::<f32, octoray::StableSphere>(&Ray::new(ray.at(hit.t), w), &sphere)
                     .is_some(),
             );
             let spawn = Ray::new(offset_ray_origin(p, err, n, w), w);
             assert_eq!(
-                intersect::<f32, octoray::core::StableSphere>(&spawn, &sphere),
+                intersect::<f32, octoray::StableSphere>(&spawn, &sphere),
                 None,
                 "stable re-hit: {spawn:?}"
             );
             assert_eq!(
-                intersect::<f32, octoray::core::NaiveSphere>(&spawn, &sphere),
+                intersect::<f32, octoray::NaiveSphere>(&spawn, &sphere),
                 None,
                 "naive re-hit: {spawn:?}"
             );

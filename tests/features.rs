@@ -4,10 +4,10 @@
 
 #[cfg(feature = "triangle")]
 mod triangles {
-    use octoray::core::textbook::{self, InsideTest};
     use octoray::glam::Vec3;
-    use octoray::packet::tiers::Standard;
+    use octoray::packet::tiers::MollerTrumbore;
     use octoray::packet::{closest, f32x8};
+    use octoray::textbook::{self, InsideTest};
     use octoray::{PackedTriangle, Ray, Triangle};
 
     #[test]
@@ -24,21 +24,21 @@ mod triangles {
         );
         let packed = PackedTriangle::from(tri);
         assert_eq!(
-            octoray::core::intersect_triangle(&ray, &packed).map(|h| h.t),
+            octoray::intersect_triangle(&ray, &packed).map(|h| h.t),
             Some(2.0)
         );
         let mut hits = [None; 3];
-        closest::<f32x8, Standard>(&[ray; 3], &[packed], &mut hits);
+        closest::<f32x8, MollerTrumbore>(&[ray; 3], &[packed], &mut hits);
         assert!(hits.iter().all(|h| h.map(|h| h.t) == Some(2.0)));
     }
 }
 
 #[cfg(feature = "sphere")]
 mod spheres {
-    use octoray::core::textbook;
     use octoray::glam::Vec3;
     use octoray::packet::tiers::StableSphere;
     use octoray::packet::{closest, f32x8};
+    use octoray::textbook;
     use octoray::{PackedSphere, Ray, Sphere};
 
     #[test]
@@ -53,7 +53,7 @@ mod spheres {
         for (s, hit) in spheres {
             assert_eq!(textbook::intersect_sphere(&ray, &s).is_some(), hit);
             let packed = PackedSphere::from(s);
-            let twin = octoray::core::intersect_sphere(&ray, &packed);
+            let twin = octoray::intersect_sphere(&ray, &packed);
             assert_eq!(twin.is_some(), hit);
             let mut out = [None; 2];
             closest::<f32x8, StableSphere>(&[ray; 2], &[packed], &mut out);

@@ -19,20 +19,21 @@ mod common;
 
 use common::accuracy::TriCase;
 use common::{oracle, Rng};
-use octoray::core::bvh::traverse::{closest_hit as bvh_closest, closest_hit_packet};
-use octoray::core::bvh::Bvh8;
-use octoray::core::ingest;
-use octoray::core::kernel::{
-    Fast, Kernel, NaiveSphere, StableSphere, Standard, StandardCulled, Watertight, WatertightCulled,
-};
-use octoray::core::offset::{offset_ray_origin, sphere_hit_point, triangle_hit_point};
-use octoray::core::prim::Primitive;
-use octoray::core::query::{any_hit, closest_hit, closest_t};
-use octoray::core::recommend::{recommend, SceneSpec};
-use octoray::core::{LaneMask, Lanes, RayLanes, Scalar};
+use octoray::bvh::traverse::{closest_packet, closest_ray as bvh_closest};
+use octoray::bvh::Bvh8;
 use octoray::glam::Vec3;
+use octoray::ingest;
+use octoray::kernels::{
+    Kernel, MollerTrumbore, MollerTrumboreCulled, MollerTrumboreFast, NaiveSphere, StableSphere,
+    Watertight, WatertightCulled,
+};
 use octoray::packet::{f32x16, f32x4, f32x8};
+use octoray::prim::Primitive;
+use octoray::query::{closest, closest_t, occluded};
+use octoray::recommend::{recommend, SceneSpec};
+use octoray::shading::offset::{offset_ray_origin, sphere_hit_point, triangle_hit_point};
 use octoray::{Hit, PackedSphere, PackedTriangle, Ray, VertexTriangle};
+use octoray::{LaneMask, Lanes, RayLanes, Scalar};
 use wide::f64x4;
 
 const EPS: f64 = 1.0 / 16_777_216.0;
@@ -280,13 +281,13 @@ where
 {
     let s = RayLanes::<S>::single(ray);
     let prims = core::slice::from_ref(prim);
-    let scalar = closest_hit::<S, K>(&s, prims).lane(0);
+    let scalar = closest::<S, K>(&s, prims).lane(0);
     let mut rays = vec![*ray];
     rays.extend(others.iter().take(L::LANES - 1));
     let p = RayLanes::<L>::load(&rays);
-    let ph = closest_hit::<L, K>(&p, prims);
+    let ph = closest::<L, K>(&p, prims);
     let (pm, pt) = closest_t::<L, K>(&p, prims);
-    let pa = any_hit::<L, K>(&p, prims).bitmask();
+    let pa = occluded::<L, K>(&p, prims).bitmask();
     for (i, r) in rays.iter().enumerate() {
         let h = ph.lane(i);
         if let Some(h) = &h {
@@ -302,7 +303,7 @@ where
             h.is_some(),
             "{what}: closest_t mask"
         );
-        assert_eq!((pa >> i) & 1 == 1, h.is_some(), "{what}: any_hit");
+        assert_eq!((pa >> i) & 1 == 1, h.is_some(), "{what}: occluded");
     }
     if exact {
         let bits = |h: Option<Hit>| h.map(|h| (h.t.to_bits(), h.u.to_bits(), h.v.to_bits()));
@@ -322,14 +323,14 @@ fn run_case(rng: &mut Rng, others: &[Ray]) {
     let verts = VertexTriangle::new(v[0], v[1], v[2]);
     let mut hits: Vec<(Option<Hit>, bool, &str)> = vec![];
     hits.push((
-        tier::<f32, f32x8, Standard, _>(&ray, others, &packed, true, "standard x8"),
+        tier::<f32, f32x8, MollerTrumbore, _>(&ray, others, &packed, true, "standard x8"),
         true,
         "standard",
     ));
-    tier::<f32, f32x4, Standard, _>(&ray, others, &packed, true, "standard x4");
-    tier::<f32, f32x16, Standard, _>(&ray, others, &packed, true, "standard x16");
+    tier::<f32, f32x4, MollerTrumbore, _>(&ray, others, &packed, true, "standard x4");
+    tier::<f32, f32x16, MollerTrumbore, _>(&ray, others, &packed, true, "standard x16");
     hits.push((
-        tier::<f32, f32x8, StandardCulled, _>(&ray, others, &packed, true, "culled"),
+        tier::<f32, f32x8, MollerTrumboreCulled, _>(&ray, others, &packed, true, "culled"),
         true,
         "culled",
     ));
@@ -340,15 +341,15 @@ fn run_case(rng: &mut Rng, others: &[Ray]) {
     ));
     tier::<f32, f32x16, Watertight, _>(&ray, others, &verts, true, "watertight x16");
     tier::<f32, f32x4, WatertightCulled, _>(&ray, others, &verts, true, "watertight culled x4");
-    let fast8 = tier::<f32, f32x8, Fast, _>(&ray, others, &packed, false, "fast x8");
+    let fast8 = tier::<f32, f32x8, MollerTrumboreFast, _>(&ray, others, &packed, false, "fast x8");
     // The fast tier's scalar twin uses an exact reciprocal; its packets are checked on their own.
-    let pf = closest_hit::<f32x8, Fast>(&RayLanes::load(&[ray]), &[packed]).lane(0);
+    let pf = closest::<f32x8, MollerTrumboreFast>(&RayLanes::load(&[ray]), &[packed]).lane(0);
     hits.push((fast8, true, "fast scalar"));
     hits.push((pf, true, "fast x8"));
-    let pf16 = closest_hit::<f32x16, Fast>(&RayLanes::load(&[ray]), &[packed]).lane(0);
+    let pf16 = closest::<f32x16, MollerTrumboreFast>(&RayLanes::load(&[ray]), &[packed]).lane(0);
     hits.push((pf16, true, "fast x16"));
     hits.push((
-        tier::<f64, f64x4, Standard, _>(&ray, others, &packed, true, "f64 standard"),
+        tier::<f64, f64x4, MollerTrumbore, _>(&ray, others, &packed, true, "f64 standard"),
         true,
         "f64",
     ));
@@ -501,8 +502,8 @@ fn run_bvh(rng: &mut Rng) -> usize {
     let rays: Vec<Ray> = cases.iter().map(|c| c.0).collect();
     for chunk in rays.chunks(8) {
         let p = RayLanes::<f32x8>::load(chunk);
-        let brute = closest_hit::<f32x8, Watertight>(&p, &verts);
-        let packet = closest_hit_packet::<f32x8, Watertight>(tree.as_ref(), &p);
+        let brute = closest::<f32x8, Watertight>(&p, &verts);
+        let packet = closest_packet::<f32x8, Watertight>(tree.as_ref(), &p);
         for (i, r) in chunk.iter().enumerate() {
             // Below 1e-30 the kernels' products underflow (directions ~1e30 times the scene):
             // their t is then off by more than the boxes' slack, the BVH contract's stated
@@ -579,13 +580,13 @@ fn run_batch(rng: &mut Rng) {
         .collect();
     let rays: Vec<Ray> = cases.iter().map(|c| c.0).take(n).collect();
     let mut out = vec![None; rays.len()];
-    octoray::packet::closest::<f32x8, Standard>(&rays, &tris, &mut out);
+    octoray::packet::closest::<f32x8, MollerTrumbore>(&rays, &tris, &mut out);
     let mut occ = vec![false; rays.len()];
-    octoray::packet::occluded::<f32x16, Standard>(&rays, &tris, &mut occ);
+    octoray::packet::occluded::<f32x16, MollerTrumbore>(&rays, &tris, &mut occ);
     let mut ts = vec![None; rays.len()];
-    octoray::packet::closest_t::<f32x4, Standard>(&rays, &tris, &mut ts);
+    octoray::packet::closest_t::<f32x4, MollerTrumbore>(&rays, &tris, &mut ts);
     for (i, r) in rays.iter().enumerate() {
-        let want = closest_hit::<f32, Standard>(&RayLanes::single(r), &tris).lane(0);
+        let want = closest::<f32, MollerTrumbore>(&RayLanes::single(r), &tris).lane(0);
         assert_eq!(out[i], want, "batch closest, {r:?}");
         assert_eq!(occ[i], want.is_some(), "batch occluded, {r:?}");
         assert_eq!(ts[i], want.map(|h| h.t), "batch closest_t, {r:?}");

@@ -5,9 +5,9 @@
 mod common;
 
 use common::*;
-use octoray::core::textbook::{self, InsideTest, SphereOutcome, TextbookHit, TriangleOutcome};
 use octoray::glam::Vec3;
 use octoray::packet::{self, f32x16, f32x4, f32x8, Lanes};
+use octoray::textbook::{self, InsideTest, SphereOutcome, TextbookHit, TriangleOutcome};
 use octoray::{PackedSphere, PackedTriangle};
 
 fn v(x: f32, y: f32, z: f32) -> Vec3 {
@@ -165,10 +165,10 @@ fn check_kernels<L: Lanes>() {
     let want_sph = [Some(t_exact[0]), Some(t_exact[1]), None, None];
 
     for (tri, want) in tris.iter().zip(want_tri) {
-        let twin = octoray::core::intersect_triangle(&ray, tri).map(|h| f64::from(h.t));
+        let twin = octoray::intersect_triangle(&ray, tri).map(|h| f64::from(h.t));
         assert_eq!(twin, want);
-        let p = packet::query::closest_hit::<L, packet::tiers::Standard>(
-            &packet::RayPacket::<L>::load(&[ray]),
+        let p = packet::query::closest::<L, packet::tiers::MollerTrumbore>(
+            &packet::RayLanes::<L>::load(&[ray]),
             std::slice::from_ref(tri),
         );
         assert_eq!(p.lane(0).map(|h| f64::from(h.t)), want);
@@ -177,9 +177,9 @@ fn check_kernels<L: Lanes>() {
         }
     }
     for (s, want) in spheres.iter().zip(want_sph) {
-        let twin = octoray::core::intersect_sphere(&ray, s);
-        let p = packet::query::closest_hit::<L, packet::tiers::StableSphere>(
-            &packet::RayPacket::<L>::load(&[ray]),
+        let twin = octoray::intersect_sphere(&ray, s);
+        let p = packet::query::closest::<L, packet::tiers::StableSphere>(
+            &packet::RayLanes::<L>::load(&[ray]),
             std::slice::from_ref(s),
         );
         assert_eq!(twin, p.lane(0));
@@ -194,7 +194,11 @@ fn check_kernels<L: Lanes>() {
     let rays = vec![ray; L::LANES.min(7)];
     let mut hits = vec![None; rays.len()];
     for (k, tri) in tris.iter().enumerate() {
-        packet::closest::<L, packet::tiers::Standard>(&rays, std::slice::from_ref(tri), &mut hits);
+        packet::closest::<L, packet::tiers::MollerTrumbore>(
+            &rays,
+            std::slice::from_ref(tri),
+            &mut hits,
+        );
         for h in &hits {
             assert_eq!(h.map(|h| f64::from(h.t)), want_tri[k]);
         }
@@ -211,7 +215,7 @@ fn check_kernels<L: Lanes>() {
     }
     // And all primitives at once: triangle 1 (t = 2) is nearer than nothing else; sphere 2's
     // near root (~0.733) is the closest sphere.
-    packet::closest::<L, packet::tiers::Standard>(&rays, &tris, &mut hits);
+    packet::closest::<L, packet::tiers::MollerTrumbore>(&rays, &tris, &mut hits);
     assert!(hits
         .iter()
         .all(|h| h.map(|h| (h.t, h.prim)) == Some((2.0, 0))));
@@ -242,7 +246,7 @@ fn seed_problems_through_kernels_width_16() {
 #[test]
 fn textbook_and_kernel_points_agree_on_triangle_1() {
     let ray = seed_ray();
-    let h = octoray::core::intersect_triangle(&ray, &seed_triangles()[0].into()).unwrap();
+    let h = octoray::intersect_triangle(&ray, &seed_triangles()[0].into()).unwrap();
     assert_eq!(ray.at(h.t), v(-2.0, 2.0, 5.0));
     // Barycentrics: p − v0 = (−2, −4, −2) = 0.4·(−3, −5, −2) + 0.4·(−2, −5, −3), and the kernel
     // forms them as −8/−20 and −8/−20 from exact integers: one rounding each.

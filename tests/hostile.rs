@@ -1,22 +1,24 @@
 //! Regression tests for hostile-input findings (issue 13): each failed before its fix.
 #![cfg(feature = "triangle")]
 
-use octoray::core::kernel::{Fast, Kernel};
-use octoray::core::query::{any_hit, closest_hit};
-use octoray::core::{LaneMask, Lanes, RayLanes};
 use octoray::glam::Vec3;
+use octoray::kernels::{Kernel, MollerTrumboreFast};
 use octoray::packet::{f32x16, f32x4, f32x8};
+use octoray::query::{closest, occluded};
+use octoray::{LaneMask, Lanes, RayLanes};
 use octoray::{PackedTriangle, Ray};
 
 /// The fast tier's answer at every width, lane 0 of a one-ray packet: (closest hit, any hit).
 fn fast_at<L: Lanes>(ray: &Ray, tri: &PackedTriangle) -> (bool, bool)
 where
-    Fast: Kernel<L, Prim = PackedTriangle>,
+    MollerTrumboreFast: Kernel<L, Prim = PackedTriangle>,
 {
     let p = RayLanes::<L>::load(&[*ray]);
     (
-        closest_hit::<L, Fast>(&p, &[*tri]).lane(0).is_some(),
-        any_hit::<L, Fast>(&p, &[*tri]).bitmask() & 1 == 1,
+        closest::<L, MollerTrumboreFast>(&p, &[*tri])
+            .lane(0)
+            .is_some(),
+        occluded::<L, MollerTrumboreFast>(&p, &[*tri]).bitmask() & 1 == 1,
     )
 }
 
@@ -68,14 +70,14 @@ fn fast_tier_zero_area_triangle_is_a_miss() {
     assert_eq!(fast_everywhere(&ray, &tri), [(false, false); 4]);
 }
 
-use octoray::core::kernel::{Standard, StandardCulled, Watertight};
-use octoray::core::query::closest_t;
+use octoray::kernels::{MollerTrumbore, MollerTrumboreCulled, Watertight};
+use octoray::query::closest_t;
 use octoray::VertexTriangle;
 
-/// `closest_t` and `closest_hit` of `K` over `prims` for one ray: (t bits from each, u and v bits).
+/// `closest_t` and `closest` of `K` over `prims` for one ray: (t bits from each, u and v bits).
 fn t_both<K: Kernel<f32x8>>(ray: &Ray, prims: &[K::Prim]) -> Option<(u32, u32, u32, u32)> {
     let p = RayLanes::<f32x8>::load(&[*ray]);
-    let h = closest_hit::<f32x8, K>(&p, prims).lane(0)?;
+    let h = closest::<f32x8, K>(&p, prims).lane(0)?;
     let (m, t) = closest_t::<f32x8, K>(&p, prims);
     assert_eq!(m.bitmask() & 1, 1);
     Some((
@@ -96,8 +98,8 @@ fn closest_t_and_closest_hit_agree_on_the_sign_of_zero() {
     let packed = [PackedTriangle::new(a, b, c), PackedTriangle::new(a, c, b)];
     let verts = [VertexTriangle::new(a, b, c), VertexTriangle::new(a, c, b)];
     for got in [
-        t_both::<Standard>(&ray, &packed),
-        t_both::<Fast>(&ray, &packed),
+        t_both::<MollerTrumbore>(&ray, &packed),
+        t_both::<MollerTrumboreFast>(&ray, &packed),
     ] {
         let (t1, t2, ..) = got.expect("the ray starts on the triangles: a hit at t = 0");
         assert_eq!((t1, t2), (0, 0), "t must be +0 from both queries");
@@ -125,10 +127,10 @@ fn barycentrics_are_never_negative_zero() {
                 for z in [1.0f32, -1.0] {
                     let ray = Ray::new(target + v(0.0, 0.0, z), v(0.0, 0.0, -z));
                     for got in [
-                        t_both::<Standard>(&ray, &packed),
-                        t_both::<StandardCulled>(&ray, &packed),
+                        t_both::<MollerTrumbore>(&ray, &packed),
+                        t_both::<MollerTrumboreCulled>(&ray, &packed),
                         t_both::<Watertight>(&ray, &verts),
-                        t_both::<Fast>(&ray, &packed),
+                        t_both::<MollerTrumboreFast>(&ray, &packed),
                     ]
                     .into_iter()
                     .flatten()
@@ -147,10 +149,10 @@ fn barycentrics_are_never_negative_zero() {
 #[cfg(feature = "sphere")]
 #[test]
 fn spawn_helpers_stay_finite_and_tiny_spheres_are_documented() {
-    use octoray::core::offset::{offset_ray_origin, sphere_hit_point};
-    use octoray::core::query::closest_hit as closest;
-    use octoray::core::StableSphere;
+    use octoray::query::closest;
+    use octoray::shading::offset::{offset_ray_origin, sphere_hit_point};
     use octoray::PackedSphere;
+    use octoray::StableSphere;
     let v = Vec3::new;
     // A real hit on a sphere of radius 2e-19: |p − c|² underflowed in f32 and gave NaN points.
     let (c, r) = (v(0.0, 0.0, 0.0), 2e-19f32);
@@ -183,7 +185,7 @@ fn spawn_helpers_stay_finite_and_tiny_spheres_are_documented() {
 #[test]
 fn sphere_hit_point_is_finite_when_o_plus_t_d_overflows_f32() {
     // Found by the 10⁷ fuzz run: a huge direction made o + t·d infinite before re-projection.
-    use octoray::core::offset::sphere_hit_point;
+    use octoray::shading::offset::sphere_hit_point;
     let v = Vec3::new;
     let ray = Ray::new(v(0.0, 0.0, -1.9e11), v(0.0, 0.0, 3.3e38));
     let (c, r) = (v(0.0, 0.0, 0.0), 9.45e10);
@@ -200,7 +202,7 @@ fn sphere_hit_point_is_finite_when_o_plus_t_d_overflows_f32() {
 fn watertight_keeps_the_thin_triangle_hit_of_issue_11() {
     // Issue 11's reproducer: an exact hit at t ≈ 0.9995, far in front of the origin, that the
     // f32 watertight tier rejected because neither "provably in front" condition held.
-    use octoray::core::intersect;
+    use octoray::intersect;
     let v = Vec3::new;
     let ray = Ray::new(
         v(1108.6238, 699.8606, 1299.9575),
@@ -218,8 +220,8 @@ fn watertight_keeps_the_thin_triangle_hit_of_issue_11() {
     assert!((h.t - 0.9995).abs() < 0.05, "{h:?}");
     assert!((f64_hit.t - 0.9995).abs() < 1e-3, "{f64_hit:?}");
     for got in [
-        closest_hit::<f32x8, Watertight>(&RayLanes::load(&[ray; 3]), &[tri]).lane(2),
-        closest_hit::<f32x16, Watertight>(&RayLanes::load(&[ray]), &[tri]).lane(0),
+        closest::<f32x8, Watertight>(&RayLanes::load(&[ray; 3]), &[tri]).lane(2),
+        closest::<f32x16, Watertight>(&RayLanes::load(&[ray]), &[tri]).lane(0),
     ] {
         assert_eq!(
             got.map(|g| g.t.to_bits()),

@@ -2,8 +2,8 @@
 //! error values.
 #![cfg(all(feature = "triangle", feature = "sphere", feature = "alloc"))]
 
-use octoray::core::ingest::{self, IngestError};
 use octoray::glam::Vec3;
+use octoray::ingest::{self, IngestError};
 use octoray::{PackedSphere, PackedTriangle, VertexTriangle};
 
 /// A quad as two triangles, positions flat as a glTF accessor gives them.

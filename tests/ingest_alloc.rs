@@ -4,7 +4,7 @@
 #![cfg(all(feature = "triangle", feature = "alloc"))]
 
 use cap::Cap;
-use octoray::core::ingest::{self, IngestError};
+use octoray::ingest::{self, IngestError};
 use std::alloc::System;
 
 #[global_allocator]

@@ -5,10 +5,10 @@
 mod common;
 
 use common::strategies::*;
-use octoray::core::kernel::{Kernel, NaiveSphere, StableSphere, Standard, Watertight};
-use octoray::core::{query, RayLanes, Scalar, VertexTriangle};
 use octoray::glam::Vec3;
+use octoray::kernels::{Kernel, MollerTrumbore, NaiveSphere, StableSphere, Watertight};
 use octoray::packet::{f32x16, f32x4, f32x8, LaneMask, Lanes};
+use octoray::{query, RayLanes, Scalar, VertexTriangle};
 use octoray::{Hit, PackedTriangle, Ray};
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
@@ -76,12 +76,12 @@ where
                 }
             }
         }
-        let closest = query::closest_hit::<L, K>(&p, prims);
-        let any = query::any_hit::<L, K>(&p, prims);
+        let closest = query::closest::<L, K>(&p, prims);
+        let any = query::occluded::<L, K>(&p, prims);
         for i in 0..L::LANES {
             let twin = twins
                 .get(i)
-                .and_then(|s| query::closest_hit::<S, K>(s, prims).lane(0));
+                .and_then(|s| query::closest::<S, K>(s, prims).lane(0));
             prop_assert_eq!(
                 hit_bits(closest.lane(i)),
                 hit_bits(twin),
@@ -91,7 +91,7 @@ where
             if closest.lane(i).is_some() {
                 prop_assert_eq!(closest.t.lane(i).to_f64().to_bits(), {
                     let s = &twins[i];
-                    query::closest_hit::<S, K>(s, prims)
+                    query::closest::<S, K>(s, prims)
                         .t
                         .lane(0)
                         .to_f64()
@@ -100,7 +100,7 @@ where
             }
             let twin_any = twins
                 .get(i)
-                .is_some_and(|s| lane_bit(query::any_hit::<S, K>(s, prims), 0));
+                .is_some_and(|s| lane_bit(query::occluded::<S, K>(s, prims), 0));
             prop_assert_eq!(lane_bit(any, i), twin_any, "any lane {}", i);
             // What any-hit reports must agree with closest-hit.
             prop_assert_eq!(lane_bit(any, i), closest.lane(i).is_some());
@@ -135,7 +135,7 @@ where
 }
 
 fn check_all_widths_triangles(rays: &[Ray], tris: &[[Vec3; 3]]) -> Result<(), TestCaseError> {
-    all_widths::<Standard, PackedTriangle>(rays, &pack_triangles(tris))?;
+    all_widths::<MollerTrumbore, PackedTriangle>(rays, &pack_triangles(tris))?;
     let verts: Vec<VertexTriangle> = tris
         .iter()
         .map(|t| VertexTriangle::new(t[0], t[1], t[2]))
@@ -209,7 +209,9 @@ fn named_edge_cases_equal_scalar_twin() {
     // And the expected answers, so this test is not only self-consistency.
     let h: Vec<Option<Hit>> = rays
         .iter()
-        .map(|r| query::closest_triangle(&RayLanes::<f32>::single(r), &packed).lane(0))
+        .map(|r| {
+            query::closest::<f32, MollerTrumbore>(&RayLanes::<f32>::single(r), &packed).lane(0)
+        })
         .collect();
     assert_eq!(h[0].map(|h| h.t), Some(1.0));
     assert_eq!(h[1].map(|h| (h.t, h.prim)), Some((1.0, 0)));

@@ -16,9 +16,9 @@ mod common;
 
 use common::Rng;
 use glam::DVec3;
-use octoray::core::textbook::{self, InsideTest};
-use octoray::packet::tiers::Standard;
+use octoray::packet::tiers::MollerTrumbore;
 use octoray::packet::{closest, f32x8};
+use octoray::textbook::{self, InsideTest};
 use octoray::{PackedTriangle, Ray, Triangle};
 
 const MARGIN: f64 = 1e-3;
@@ -81,7 +81,7 @@ fn moller_trumbore_agrees_with_the_textbook_outside_the_margin() {
     // Each ray against its own triangle through the 8-lane packet path.
     let mut packet_hits = vec![None; cases.len()];
     for ((ray, tri), out) in cases.iter().zip(packet_hits.chunks_mut(1)) {
-        closest::<f32x8, Standard>(
+        closest::<f32x8, MollerTrumbore>(
             std::slice::from_ref(ray),
             &[PackedTriangle::from(*tri)],
             out,

@@ -6,14 +6,14 @@
 mod common;
 
 use common::Rng;
-use octoray::core::kernel::{
-    Kernel, StableSphere, Standard, StandardCulled, Watertight, WatertightCulled,
-};
-use octoray::core::query::{any_hit, closest_hit, closest_t};
-use octoray::core::surface::{packed_triangle_surface, vertex_triangle_surface};
-use octoray::core::{LaneMask, Lanes, RayLanes, Scalar};
 use octoray::glam::Vec3;
+use octoray::kernels::{
+    Kernel, MollerTrumbore, MollerTrumboreCulled, StableSphere, Watertight, WatertightCulled,
+};
 use octoray::packet::{f32x16, f32x8};
+use octoray::query::{closest, closest_t, occluded};
+use octoray::Shade;
+use octoray::{LaneMask, Lanes, RayLanes, Scalar};
 use octoray::{PackedSphere, PackedTriangle, Ray, VertexTriangle};
 
 fn scene(seed: u64) -> (Vec<Ray>, Vec<[Vec3; 3]>) {
@@ -36,9 +36,9 @@ fn scene(seed: u64) -> (Vec<Ray>, Vec<[Vec3; 3]>) {
 fn kinds_agree<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim]) {
     for c in rays.chunks(L::LANES) {
         let p = RayLanes::<L>::load(c);
-        let full = closest_hit::<L, K>(&p, prims);
+        let full = closest::<L, K>(&p, prims);
         let (mask, t) = closest_t::<L, K>(&p, prims);
-        let any = any_hit::<L, K>(&p, prims);
+        let any = occluded::<L, K>(&p, prims);
         assert_eq!(mask.bitmask(), full.mask.bitmask());
         assert_eq!(any.bitmask(), full.mask.bitmask());
         for i in 0..c.len() {
@@ -65,11 +65,11 @@ fn every_query_kind_agrees_with_closest_hit() {
         .map(|t| VertexTriangle::new(t[0], t[1], t[2]))
         .collect();
     let spheres: Vec<PackedSphere> = tris.iter().map(|t| PackedSphere::new(t[0], 0.3)).collect();
-    kinds_agree::<f32, Standard>(&rays, &packed);
-    kinds_agree::<f32x8, Standard>(&rays, &packed);
-    kinds_agree::<f32x16, Standard>(&rays, &packed);
+    kinds_agree::<f32, MollerTrumbore>(&rays, &packed);
+    kinds_agree::<f32x8, MollerTrumbore>(&rays, &packed);
+    kinds_agree::<f32x16, MollerTrumbore>(&rays, &packed);
     kinds_agree::<f32x8, Watertight>(&rays, &verts);
-    kinds_agree::<f32x8, StandardCulled>(&rays, &packed);
+    kinds_agree::<f32x8, MollerTrumboreCulled>(&rays, &packed);
     kinds_agree::<f32x8, StableSphere>(&rays, &spheres);
 }
 
@@ -83,10 +83,10 @@ fn culling_drops_exactly_the_back_faces() {
             let packed = [PackedTriangle::new(t[0], t[1], t[2])];
             let verts = [VertexTriangle::new(t[0], t[1], t[2])];
             let p = RayLanes::<f32>::single(r);
-            let both = closest_hit::<f32, Standard>(&p, &packed).lane(0);
-            let culled = closest_hit::<f32, StandardCulled>(&p, &packed).lane(0);
-            let wt_both = closest_hit::<f32, Watertight>(&p, &verts).lane(0);
-            let wt_culled = closest_hit::<f32, WatertightCulled>(&p, &verts).lane(0);
+            let both = closest::<f32, MollerTrumbore>(&p, &packed).lane(0);
+            let culled = closest::<f32, MollerTrumboreCulled>(&p, &packed).lane(0);
+            let wt_both = closest::<f32, Watertight>(&p, &verts).lane(0);
+            let wt_culled = closest::<f32, WatertightCulled>(&p, &verts).lane(0);
             // A front face's normal points against the ray.
             let is_front = n.dot(r.dir) < 0.0;
             if both.is_some() {
@@ -115,7 +115,7 @@ trait With: Sized {
         (self, h)
     }
 }
-impl With for octoray::core::surface::Surface {}
+impl With for octoray::shading::Surface {}
 
 #[test]
 fn surface_data_faces_the_ray_and_spawns_without_rehits() {
@@ -125,27 +125,72 @@ fn surface_data_faces_the_ray_and_spawns_without_rehits() {
         for t in &tris {
             let packed = PackedTriangle::new(t[0], t[1], t[2]);
             let verts = VertexTriangle::new(t[0], t[1], t[2]);
-            let standard = octoray::core::intersect::<f32, Standard>(r, &packed)
-                .map(|h| packed_triangle_surface(r, &packed, &h).with(h));
-            let watertight = octoray::core::intersect::<f32, Watertight>(r, &verts)
-                .map(|h| vertex_triangle_surface(r, &verts, &h).with(h));
+            let standard = octoray::intersect::<f32, MollerTrumbore>(r, &packed)
+                .map(|h| packed.surface(r, &h).with(h));
+            let watertight = octoray::intersect::<f32, Watertight>(r, &verts)
+                .map(|h| verts.surface(r, &h).with(h));
             for (s, hit) in standard.into_iter().chain(watertight) {
                 assert!(s.normal.dot(r.dir) <= 0.0 && (s.normal.length() - 1.0).abs() < 1e-5);
                 assert!((s.point - r.at(hit.t)).length() < 1e-4);
                 for (origin, dir) in [(s.spawn_front, s.normal), (s.spawn_back, -s.normal)] {
                     let spawn = Ray::new(origin, dir);
                     assert_eq!(
-                        octoray::core::intersect::<f32, Standard>(&spawn, &packed),
+                        octoray::intersect::<f32, MollerTrumbore>(&spawn, &packed),
                         None
                     );
-                    assert_eq!(
-                        octoray::core::intersect::<f32, Watertight>(&spawn, &verts),
-                        None
-                    );
+                    assert_eq!(octoray::intersect::<f32, Watertight>(&spawn, &verts), None);
                 }
                 checked += 1;
             }
         }
     }
     assert!(checked > 100, "{checked}");
+}
+
+/// Sphere hits answer the same surface call as triangles: a unit normal facing the ray, the point
+/// on the sphere, an outward spawn that never re-hits, an inward spawn that meets only the far
+/// side (t·|d| ≈ 2r), at scales from 1e-3 to 1e4.
+#[test]
+fn sphere_surface_data_faces_the_ray_and_spawns_without_rehits() {
+    use octoray::{Sphere, StableSphere};
+    let mut checked = 0;
+    let mut seed = 0x9e37_79b9_u32;
+    let mut rnd = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 17;
+        seed ^= seed << 5;
+        seed as f32 / u32::MAX as f32 * 2.0 - 1.0
+    };
+    for scale in [1e-3f32, 1.0, 37.0, 1e4] {
+        for _ in 0..400 {
+            let c = Vec3::new(rnd(), rnd(), rnd()) * scale * 3.0;
+            let radius = scale * (0.2 + rnd().abs());
+            let o = c + Vec3::new(rnd(), rnd(), rnd()).normalize_or(Vec3::X) * radius * 4.0;
+            let aim = c + Vec3::new(rnd(), rnd(), rnd()) * radius * 0.9;
+            let ray = Ray::new(o, aim - o);
+            let (sphere, packed) = (Sphere::new(c, radius), PackedSphere::new(c, radius));
+            let Some(hit) = octoray::intersect::<f32, StableSphere>(&ray, &packed) else {
+                continue;
+            };
+            for s in [sphere.surface(&ray, &hit), packed.surface(&ray, &hit)] {
+                assert!(s.normal.dot(ray.dir) <= 0.0, "{ray:?} {s:?}");
+                assert!((s.normal.length() - 1.0).abs() < 1e-5, "{s:?}");
+                assert!(
+                    ((s.point - c).length() - radius).abs() <= 1e-5 * radius,
+                    "{s:?}"
+                );
+                assert!((s.point - ray.at(hit.t)).length() <= 1e-4 * radius, "{s:?}");
+                let out = Ray::new(s.spawn_front, s.normal);
+                assert_eq!(octoray::intersect::<f32, StableSphere>(&out, &packed), None);
+                let inward = Ray::new(s.spawn_back, -s.normal);
+                let far = octoray::intersect::<f32, StableSphere>(&inward, &packed)
+                    .expect("an inward ray meets the far side");
+                assert!((far.t * s.normal.length() - 2.0 * radius).abs() <= 1e-3 * radius);
+                assert_eq!(s.spawn(s.normal), s.spawn_front);
+                assert_eq!(s.spawn(-s.normal), s.spawn_back);
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 1000, "{checked}");
 }

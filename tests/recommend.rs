@@ -2,18 +2,18 @@
 //! scene describes (hit, with the position error within the budget).
 #![cfg(all(feature = "triangle", feature = "sphere"))]
 
-use octoray::core::recommend::{recommend, SceneSpec, TierChoice};
-use octoray::core::{intersect, Standard, Watertight};
 use octoray::glam::Vec3;
+use octoray::recommend::{recommend, SceneSpec, TierChoice};
+use octoray::{intersect, MollerTrumbore, Watertight};
 use octoray::{Hit, PackedTriangle, Ray, VertexTriangle};
 
 fn run(tier: TierChoice, ray: &Ray, tri: [Vec3; 3]) -> Option<Hit> {
     let packed = PackedTriangle::new(tri[0], tri[1], tri[2]);
     let verts = VertexTriangle::new(tri[0], tri[1], tri[2]);
     match tier {
-        TierChoice::Standard => intersect::<f32, Standard>(ray, &packed),
+        TierChoice::Standard => intersect::<f32, MollerTrumbore>(ray, &packed),
         TierChoice::Watertight => intersect::<f32, Watertight>(ray, &verts),
-        TierChoice::F64 => intersect::<f64, Standard>(ray, &packed),
+        TierChoice::F64 => intersect::<f64, MollerTrumbore>(ray, &packed),
         TierChoice::WatertightF64 => intersect::<f64, Watertight>(ray, &verts),
     }
 }
@@ -137,7 +137,7 @@ fn closed_meshes_far_from_the_origin_get_a_watertight_tier_at_f64() {
 
 #[test]
 fn invalid_scene_descriptions_are_errors() {
-    use octoray::core::recommend::SpecError;
+    use octoray::recommend::SpecError;
     let (_, _, good) = case(0.0, 1.0);
     let mut s = good;
     s.bounds_min.x = f32::NAN;

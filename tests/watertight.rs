@@ -56,15 +56,15 @@ fn watertight_tier_has_no_cracks_million_rays() {
 #[test]
 fn f64_watertight_tier_has_no_cracks_and_exact_zero_signs() {
     use common::mesh::crack_suite_with;
-    use octoray::core::kernel::Watertight;
-    use octoray::core::query::any_hit;
-    use octoray::core::{LaneMask, RayLanes, Scalar};
+    use octoray::kernels::Watertight;
+    use octoray::query::occluded;
+    use octoray::{LaneMask, RayLanes, Scalar};
     use wide::f64x4;
     // The crack suite at f64 lanes (issue 11): zero escapes.
     let rows = crack_suite_with(2_500, |tris, rays| {
         rays.chunks(4)
             .map(|c| {
-                let hit = any_hit::<f64x4, Watertight>(&RayLanes::load(c), tris).bitmask();
+                let hit = occluded::<f64x4, Watertight>(&RayLanes::load(c), tris).bitmask();
                 c.len() - hit.count_ones() as usize
             })
             .sum()

@@ -3,9 +3,9 @@
 //! and one diffuse bounce per primary hit.
 
 use glam::Vec3;
-use octoray::core::bvh::traverse::closest_hit;
-use octoray::core::bvh::Bvh8;
-use octoray::core::kernel::Watertight;
+use octoray::bvh::traverse::closest_ray;
+use octoray::bvh::Bvh8;
+use octoray::kernels::Watertight;
 use octoray::{Ray, VertexTriangle};
 use std::path::PathBuf;
 use std::process::Command;
@@ -160,11 +160,11 @@ impl SceneSet {
         };
         let mut out = Vec::with_capacity(primary.len());
         for r in primary {
-            let Some(h) = closest_hit::<f32x8, Watertight>(bvh.as_ref(), r) else {
+            let Some(h) = closest_ray::<f32x8, Watertight>(bvh.as_ref(), r) else {
                 continue;
             };
             let t = self.tris[h.prim as usize];
-            let (p, err) = octoray::core::offset::triangle_hit_point(
+            let (p, err) = octoray::shading::offset::triangle_hit_point(
                 &VertexTriangle::new(t[0], t[1], t[2]),
                 h.u,
                 h.v,
@@ -181,7 +181,7 @@ impl SceneSet {
             if d.length_squared() < 1e-8 {
                 continue;
             }
-            let o = octoray::core::offset::offset_ray_origin(p, err, n, d);
+            let o = octoray::shading::offset::offset_ray_origin(p, err, n, d);
             out.push(Ray::new(o, d));
         }
         out

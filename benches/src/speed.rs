@@ -4,13 +4,15 @@
 use crate::peers;
 use crate::workload::Workload;
 use glam::Vec3A;
-use octoray::core::kernel::{
-    Fast, Kernel, NaiveSphere, StableSphere, Standard, StandardCulled, Watertight,
+use octoray::kernels::{
+    Kernel, MollerTrumbore, MollerTrumboreCulled, MollerTrumboreFast, NaiveSphere, StableSphere,
+    Watertight,
 };
-use octoray::core::query::{any_hit, closest_hit, closest_t};
-use octoray::core::textbook::{self, InsideTest};
-use octoray::core::{LaneMask, Lanes, RayLanes, VertexTriangle};
 use octoray::packet::{f32x16, f32x4, f32x8};
+use octoray::query;
+use octoray::textbook::{self, InsideTest};
+use octoray::Shade;
+use octoray::{LaneMask, Lanes, RayLanes, VertexTriangle};
 use octoray::{PackedSphere, PackedTriangle, Ray, Sphere, Triangle};
 use wide::{f64x4, f64x8};
 
@@ -73,7 +75,7 @@ pub struct Entry {
 fn closest<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim]) -> u32 {
     rays.chunks(L::LANES)
         .map(|c| {
-            closest_hit::<L, K>(&RayLanes::load(c), prims)
+            query::closest::<L, K>(&RayLanes::load(c), prims)
                 .mask
                 .bitmask()
                 .count_ones()
@@ -85,14 +87,10 @@ fn closest<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim]) -> u32 {
 fn closest_surface(p: &Prepared) -> u32 {
     let mut hits = 0;
     for c in p.w.rays.chunks(8) {
-        let h = closest_hit::<f32x8, Standard>(&RayLanes::load(c), &p.packed);
+        let h = query::closest::<f32x8, MollerTrumbore>(&RayLanes::load(c), &p.packed);
         for (i, r) in c.iter().enumerate() {
             if let Some(hit) = h.lane(i) {
-                let s = octoray::core::surface::packed_triangle_surface(
-                    r,
-                    &p.packed[hit.prim as usize],
-                    &hit,
-                );
+                let s = p.packed[hit.prim as usize].surface(r, &hit);
                 hits += u32::from(s.normal.dot(r.dir) <= 0.0);
             }
         }
@@ -103,7 +101,7 @@ fn closest_surface(p: &Prepared) -> u32 {
 fn nearest_t<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim]) -> u32 {
     rays.chunks(L::LANES)
         .map(|c| {
-            closest_t::<L, K>(&RayLanes::load(c), prims)
+            query::closest_t::<L, K>(&RayLanes::load(c), prims)
                 .0
                 .bitmask()
                 .count_ones()
@@ -114,7 +112,7 @@ fn nearest_t<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim]) -> u32 {
 fn any<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim]) -> u32 {
     rays.chunks(L::LANES)
         .map(|c| {
-            any_hit::<L, K>(&RayLanes::load(c), prims)
+            query::occluded::<L, K>(&RayLanes::load(c), prims)
                 .bitmask()
                 .count_ones()
         })
@@ -180,23 +178,23 @@ pub fn entries() -> Vec<Entry> {
     vec![
         e!("textbook scalar", Triangle, Closest, true, textbook_tris),
         e!("standard x1 (scalar twin)", Triangle, Closest, true, |p| {
-            closest::<f32, Standard>(&p.w.rays, &p.packed)
+            closest::<f32, MollerTrumbore>(&p.w.rays, &p.packed)
         }),
         e!("standard x4", Triangle, Closest, true, |p| closest::<
             f32x4,
-            Standard,
+            MollerTrumbore,
         >(
             &p.w.rays, &p.packed
         )),
         e!("standard x8", Triangle, Closest, true, |p| closest::<
             f32x8,
-            Standard,
+            MollerTrumbore,
         >(
             &p.w.rays, &p.packed
         )),
         e!("standard x16", Triangle, Closest, true, |p| closest::<
             f32x16,
-            Standard,
+            MollerTrumbore,
         >(
             &p.w.rays, &p.packed
         )),
@@ -218,34 +216,33 @@ pub fn entries() -> Vec<Entry> {
         >(
             &p.w.rays, &p.vertex
         )),
-        e!(
-            "fast x8",
-            Triangle,
-            Closest,
-            true,
-            |p| closest::<f32x8, Fast>(&p.w.rays, &p.packed)
-        ),
+        e!("fast x8", Triangle, Closest, true, |p| closest::<
+            f32x8,
+            MollerTrumboreFast,
+        >(
+            &p.w.rays, &p.packed
+        )),
         e!("fast x16", Triangle, Closest, true, |p| closest::<
             f32x16,
-            Fast,
+            MollerTrumboreFast,
         >(
             &p.w.rays, &p.packed
         )),
         e!("f64 x1", Triangle, Closest, true, |p| closest::<
             f64,
-            Standard,
+            MollerTrumbore,
         >(
             &p.w.rays, &p.packed
         )),
         e!("f64 x4", Triangle, Closest, true, |p| closest::<
             f64x4,
-            Standard,
+            MollerTrumbore,
         >(
             &p.w.rays, &p.packed
         )),
         e!("f64 x8", Triangle, Closest, true, |p| closest::<
             f64x8,
-            Standard,
+            MollerTrumbore,
         >(
             &p.w.rays, &p.packed
         )),
@@ -261,29 +258,29 @@ pub fn entries() -> Vec<Entry> {
             Triangle,
             Closest,
             true,
-            |p| closest::<f32x8, StandardCulled>(&p.w.rays, &p.packed)
+            |p| closest::<f32x8, MollerTrumboreCulled>(&p.w.rays, &p.packed)
         ),
         e!("standard x8 closest-t", Triangle, Closest, true, |p| {
-            nearest_t::<f32x8, Standard>(&p.w.rays, &p.packed)
+            nearest_t::<f32x8, MollerTrumbore>(&p.w.rays, &p.packed)
         }),
         e!("standard x16 closest-t", Triangle, Closest, true, |p| {
-            nearest_t::<f32x16, Standard>(&p.w.rays, &p.packed)
+            nearest_t::<f32x16, MollerTrumbore>(&p.w.rays, &p.packed)
         }),
         e!("standard x1 any", Triangle, Any, true, |p| any::<
             f32,
-            Standard,
+            MollerTrumbore,
         >(
             &p.w.rays, &p.packed
         )),
         e!("standard x8 any", Triangle, Any, true, |p| any::<
             f32x8,
-            Standard,
+            MollerTrumbore,
         >(
             &p.w.rays, &p.packed
         )),
         e!("standard x16 any", Triangle, Any, true, |p| any::<
             f32x16,
-            Standard,
+            MollerTrumbore,
         >(
             &p.w.rays, &p.packed
         )),

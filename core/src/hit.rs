@@ -1,9 +1,23 @@
 //! What a kernel answers: the per-lane hit record and the range checks every kernel ends with.
 //! The leaf of the kernel layer: the algorithms (`moller_trumbore`, `watertight`, …) import it,
-//! and [`crate::kernel`] (the tiers) sits above them.
+//! and [`crate::kernels`] (the tiers) sits above them.
 
 use crate::lanes::Lanes;
-use crate::ray::RayLanes;
+use crate::prim::RayLanes;
+
+/// A hit: the ray parameter, the barycentrics of `v1` and `v2` (zero for spheres) and the index
+/// of the primitive in the slice that was queried (zero for single-primitive tests).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Ray parameter of the hit, finite and inside `[t_min, t_max]`.
+    pub t: f32,
+    /// Barycentric weight of `v1` (triangles).
+    pub u: f32,
+    /// Barycentric weight of `v2` (triangles).
+    pub v: f32,
+    /// Index of the primitive hit.
+    pub prim: u32,
+}
 
 /// Per-lane result of one ray-primitive test: `mask` marks the lanes that hit; the fields are
 /// meaningful only there.

@@ -5,9 +5,9 @@
 //! slices (no allocator needed); with the `alloc` feature the `*_vec` forms return a `Vec`.
 
 #[cfg(feature = "sphere")]
-use crate::ray::PackedSphere;
+use crate::prim::PackedSphere;
 #[cfg(feature = "triangle")]
-use crate::ray::{PackedTriangle, VertexTriangle};
+use crate::prim::{PackedTriangle, VertexTriangle};
 use core::fmt;
 #[cfg(any(feature = "triangle", feature = "sphere"))]
 use glam::Vec3;

@@ -1,19 +1,29 @@
-//! `octoray-core`: the `no_std` scalar half of octoray.
+//! `octoray-core`: the `no_std` scalar half of octoray, and the one generic body of every kernel.
 //!
-//! - [`textbook`]: the textbook method of the seed sheet (plane, then inside-outside test with
-//!   cross products; the sphere quadratic), with every intermediate value observable.
-//! - [`moller_trumbore`] (standard), [`watertight`], [`moller_trumbore_fast`] (fast),
-//!   [`sphere_stable`], [`sphere_naive`]: the single generic body of each packet kernel, written
-//!   against [`Lanes`]. Instantiated at `f32` they are the *scalar twins* of the packet kernels in
-//!   `octoray-packet`, bit for bit (except the fast tier, whose contract is an error bound); at
-//!   `f64`/`f64x4`/`f64x8` they are the f64 tier. [`kernel`] names the tiers.
-//! - [`query`]: closest-hit and any-hit loops over slices, generic over width and tier.
-//! - [`offset_ray_origin`]: spawn secondary rays without re-hitting the surface.
+//! The modules are layers; each imports only from those listed before it:
+//!
+//! - [`lanes`]: the [`Lanes`] trait every body is written against (`f32`, `f64`; the `wide`
+//!   types under the `wide` feature, which only `octoray-packet` turns on) and [`V3`].
+//! - [`prim`]: rays ([`Ray`], [`RayLanes`]) and primitive layouts read as lanes.
+//! - [`hit`]: what a test answers ([`Hit`], [`LanesHit`]) and the range checks.
+//! - [`kernels`]: one file per primitive × algorithm —
+//!   [`kernels::triangle::moller_trumbore`] (standard tier), [`kernels::triangle::watertight`],
+//!   [`kernels::triangle::moller_trumbore_fast`] (fast tier), [`kernels::sphere::stable`],
+//!   [`kernels::sphere::naive`] — each the single generic body of its kernel, and the tier types
+//!   over them ([`Kernel`]). At `L = f32` a body is the *scalar twin* of the packet kernel, bit
+//!   for bit (except the fast tier, whose contract is an error bound); at `f64`/`f64x4`/`f64x8`
+//!   it is the f64 tier.
+//! - [`query`]: closest hit, closest `t` and occlusion of a packet over a slice; [`bvh`]: the
+//!   8-wide BVH over any primitive slice (build under `alloc`, traversal under `wide`).
+//! - [`shading`]: surface data and spawn points ([`Shade`]), [`ingest`], [`recommend`], and
+//!   [`textbook`], the seed sheet's method with every intermediate value observable.
 //!
 //! Every kernel documents its accuracy contract. No `std`, no allocation, no `unsafe`.
 //!
 //! Cargo features: `triangle` and `sphere` (the primitives; a build with one has none of the
-//! other's code) and `alloc` (`Vec`-returning ingest helpers), all on by default.
+//! other's code) and `alloc` (`Vec`-returning ingest helpers, the BVH builder), all on by
+//! default; `wide` (the SIMD lane types and BVH traversal), off by default: without it the crate
+//! has no `wide` in its dependency graph.
 //!
 //! ```
 //! # #[cfg(feature = "triangle")] {
@@ -30,6 +40,12 @@
 //! ```
 #![no_std]
 #![forbid(unsafe_code)]
+// A build with neither primitive (`--no-default-features`) keeps the shared helpers the
+// primitives would use; it exists to prove the scalar core builds without `wide` and features.
+#![cfg_attr(
+    not(any(feature = "triangle", feature = "sphere")),
+    allow(dead_code, unused_imports)
+)]
 
 #[cfg(feature = "alloc")]
 extern crate alloc;
@@ -37,44 +53,34 @@ extern crate alloc;
 pub mod bvh;
 pub mod hit;
 pub mod ingest;
-pub mod kernel;
+pub mod kernels;
 pub mod lanes;
-#[cfg(feature = "triangle")]
-pub mod moller_trumbore;
-#[cfg(feature = "triangle")]
-pub mod moller_trumbore_fast;
-#[cfg(any(feature = "triangle", feature = "sphere"))]
-pub mod offset;
 pub mod prim;
 pub mod query;
-pub mod ray;
 pub mod recommend;
-#[cfg(feature = "sphere")]
-pub mod sphere_naive;
-#[cfg(feature = "sphere")]
-pub mod sphere_stable;
-#[cfg(feature = "triangle")]
-pub mod surface;
+#[cfg(any(feature = "triangle", feature = "sphere"))]
+pub mod shading;
 pub mod textbook;
-pub mod vec3;
-#[cfg(feature = "triangle")]
-pub mod watertight;
 
 pub use glam;
+pub use hit::{Hit, LanesHit};
+pub use kernels::Kernel;
 #[cfg(feature = "triangle")]
-pub use kernel::{Fast, Standard, StandardCulled, Watertight, WatertightCulled};
-pub use kernel::{Kernel, LanesHit};
+pub use kernels::{
+    MollerTrumbore, MollerTrumboreCulled, MollerTrumboreFast, Watertight, WatertightCulled,
+};
 #[cfg(feature = "sphere")]
-pub use kernel::{NaiveSphere, StableSphere};
-pub use lanes::{FastLanes, LaneMask, Lanes, Scalar};
+pub use kernels::{NaiveSphere, StableSphere};
+pub use lanes::{FastLanes, LaneMask, Lanes, Scalar, V3};
+#[cfg(feature = "sphere")]
+pub use prim::{PackedSphere, Sphere};
+#[cfg(feature = "triangle")]
+pub use prim::{PackedTriangle, Triangle, VertexTriangle};
+pub use prim::{Ray, RayLanes};
 #[cfg(any(feature = "triangle", feature = "sphere"))]
-pub use offset::offset_ray_origin;
-pub use ray::{Hit, Ray, RayLanes};
-#[cfg(feature = "sphere")]
-pub use ray::{PackedSphere, Sphere};
-#[cfg(feature = "triangle")]
-pub use ray::{PackedTriangle, Triangle, VertexTriangle};
-pub use vec3::V3;
+pub use shading::offset::offset_ray_origin;
+#[cfg(any(feature = "triangle", feature = "sphere"))]
+pub use shading::{Shade, Surface};
 
 /// One ray against one primitive with kernel `K` in one lane of `L` (`f32` for the scalar twin,
 /// `f64` for the f64 tier). `prim` is 0; f64 results are rounded to f32.
@@ -91,14 +97,14 @@ pub fn intersect<L: Lanes, K: Kernel<L>>(ray: &Ray, prim: &K::Prim) -> Option<Hi
 }
 
 /// Scalar twin of the packet Möller-Trumbore kernel (standard tier): one ray against one packed
-/// triangle. `prim` is 0. Contract: [`moller_trumbore`].
+/// triangle. `prim` is 0. Contract: [`kernels::triangle::moller_trumbore`].
 #[cfg(feature = "triangle")]
 pub fn intersect_triangle(ray: &Ray, tri: &PackedTriangle) -> Option<Hit> {
-    intersect::<f32, Standard>(ray, tri)
+    intersect::<f32, MollerTrumbore>(ray, tri)
 }
 
 /// Scalar twin of the packet sphere kernel (stable): one ray against one packed sphere. `u`, `v`,
-/// `prim` are 0. Contract: [`sphere_stable`].
+/// `prim` are 0. Contract: [`kernels::sphere::stable`].
 #[cfg(feature = "sphere")]
 pub fn intersect_sphere(ray: &Ray, sphere: &PackedSphere) -> Option<Hit> {
     intersect::<f32, StableSphere>(ray, sphere)

@@ -3,22 +3,21 @@
 //!
 //! | query | answers | cost beyond the kernel |
 //! |---|---|---|
-//! | [`any_hit`] | a lane mask (occlusion, shadow rays) | none; stops when every lane is occluded |
+//! | [`occluded`] | a lane mask (occlusion, shadow rays) | none; stops when every lane is occluded |
 //! | [`closest_t`] | mask and nearest `t` | one blend per hit |
-//! | [`closest_hit`] | `t`, barycentrics, primitive index | five blends per hit, two divisions per query |
-//! | [`crate::surface`] | normal and spawn points, for the hits you shade | per hit, scalar |
+//! | [`closest`] | `t`, barycentrics, primitive index | five blends per hit, two divisions per query |
+//! | [`crate::shading`] | normal and spawn points, for the hits you shade | per hit, scalar |
 //!
-//! Back-face culling is a kernel choice ([`crate::kernel::StandardCulled`],
-//! [`crate::kernel::WatertightCulled`]). `L = f32` gives the scalar twins of the packet queries,
+//! Back-face culling is a kernel choice ([`crate::kernels::MollerTrumboreCulled`],
+//! [`crate::kernels::WatertightCulled`]). `L = f32` gives the scalar twins of the packet queries,
 //! with the same selection rules, so primitive indices agree lane by lane; every query agrees
-//! bit for bit with [`closest_hit`] on what they share (tested).
+//! bit for bit with [`closest`] on what they share (tested).
 //!
 //! ```
 //! # #[cfg(feature = "triangle")] {
 //! use octoray_core::glam::Vec3;
-//! use octoray_core::query::{any_hit, closest_hit, closest_t};
-//! use octoray_core::{LaneMask, PackedTriangle, Ray, RayLanes, Standard, StandardCulled};
-//! use wide::f32x8;
+//! use octoray_core::query::{occluded, closest, closest_t};
+//! use octoray_core::{LaneMask, MollerTrumbore, MollerTrumboreCulled, PackedTriangle, Ray, RayLanes};
 //!
 //! let v = Vec3::new;
 //! // Two parallel triangles facing +z at z = 0 and z = -1.
@@ -26,31 +25,25 @@
 //!     PackedTriangle::new(v(0.0, 0.0, -1.0), v(1.0, 0.0, -1.0), v(0.0, 1.0, -1.0)),
 //!     PackedTriangle::new(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.0, 1.0, 0.0)),
 //! ];
-//! let down = RayLanes::<f32x8>::load(&[Ray::new(v(0.2, 0.2, 1.0), v(0.0, 0.0, -1.0)); 8]);
-//! let up = RayLanes::<f32x8>::load(&[Ray::new(v(0.2, 0.2, -2.0), v(0.0, 0.0, 1.0)); 3]);
+//! let down = RayLanes::<f32>::single(&Ray::new(v(0.2, 0.2, 1.0), v(0.0, 0.0, -1.0)));
+//! let up = RayLanes::<f32>::single(&Ray::new(v(0.2, 0.2, -2.0), v(0.0, 0.0, 1.0)));
 //!
-//! assert_eq!(any_hit::<_, Standard>(&down, &tris).bitmask(), 0xff);
-//! let (mask, t) = closest_t::<_, Standard>(&down, &tris);
-//! assert_eq!((mask.bitmask(), t.as_array()[0]), (0xff, 1.0));
-//! let full = closest_hit::<_, Standard>(&down, &tris).lane(0).unwrap();
+//! // One ray (`L = f32`, the scalar twin); `L = f32x8` in octoray-packet traces eight.
+//! assert!(occluded::<_, MollerTrumbore>(&down, &tris));
+//! let (mask, t) = closest_t::<_, MollerTrumbore>(&down, &tris);
+//! assert_eq!((mask, t), (true, 1.0));
+//! let full = closest::<_, MollerTrumbore>(&down, &tris).lane(0).unwrap();
 //! assert_eq!((full.t, full.prim), (1.0, 1)); // the nearer triangle, index 1
 //! // Seen from below, both are back faces: culled, nothing is hit.
-//! assert_eq!(closest_hit::<_, StandardCulled>(&up, &tris).lane(0), None);
-//! assert!(closest_hit::<_, Standard>(&up, &tris).lane(0).is_some());
+//! assert_eq!(closest::<_, MollerTrumboreCulled>(&up, &tris).lane(0), None);
+//! assert!(closest::<_, MollerTrumbore>(&up, &tris).lane(0).is_some());
 //! # }
 //! ```
 
-use crate::kernel::Kernel;
-#[cfg(feature = "sphere")]
-use crate::kernel::{NaiveSphere, StableSphere};
-#[cfg(feature = "triangle")]
-use crate::kernel::{Standard, Watertight};
+use crate::hit::Hit;
+use crate::kernels::Kernel;
 use crate::lanes::{LaneMask, Lanes, Scalar};
-#[cfg(feature = "sphere")]
-use crate::ray::PackedSphere;
-use crate::ray::{Hit, RayLanes};
-#[cfg(feature = "triangle")]
-use crate::ray::{PackedTriangle, VertexTriangle};
+use crate::prim::RayLanes;
 
 /// Per-lane closest hit over a slice of primitives (barycentrics already divided).
 #[derive(Clone, Copy, Debug)]
@@ -96,7 +89,7 @@ impl<L: Lanes> ClosestHit<L> {
 /// # Panics
 /// When `prims.len() > u32::MAX`: primitive indices are `u32`, and a longer slice would report
 /// wrapped indices.
-pub fn closest_hit<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> ClosestHit<L> {
+pub fn closest<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> ClosestHit<L> {
     check_prim_count(prims.len());
     let pre = K::prepare(ray);
     let mut ray = *ray;
@@ -118,7 +111,7 @@ pub fn closest_hit<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim])
     }
     best.t = ray.t_max;
     // The barycentrics were carried as numerators: one division for the winner.
-    (best.u, best.v) = crate::kernel::barycentrics(best.u, best.v, scale);
+    (best.u, best.v) = crate::kernels::barycentrics(best.u, best.v, scale);
     best
 }
 
@@ -134,7 +127,7 @@ pub(crate) fn check_prim_count(n: usize) {
 
 /// Closest `t` only, per lane, with kernel `K`: the mask of lanes that hit and their nearest `t`,
 /// without barycentrics or primitive index (no per-hit bookkeeping beyond `t`). Lane by lane,
-/// `mask` and `t` equal those of [`closest_hit`], bit for bit.
+/// `mask` and `t` equal those of [`closest`], bit for bit.
 pub fn closest_t<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> (L::Mask, L) {
     let pre = K::prepare(ray);
     let mut ray = *ray;
@@ -150,7 +143,7 @@ pub fn closest_t<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -
 
 /// Lanes whose ray hits any primitive in `[t_min, t_max]` with kernel `K` (occlusion). Stops as
 /// soon as every active lane is occluded.
-pub fn any_hit<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> L::Mask {
+pub fn occluded<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> L::Mask {
     let pre = K::prepare(ray);
     let mut hit = L::first_lanes(0);
     for prim in prims {
@@ -160,48 +153,6 @@ pub fn any_hit<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> 
         }
     }
     hit
-}
-
-/// Closest triangle hit per lane, standard tier ([`closest_hit`] with [`Standard`]).
-#[cfg(feature = "triangle")]
-pub fn closest_triangle<L: Lanes>(ray: &RayLanes<L>, tris: &[PackedTriangle]) -> ClosestHit<L> {
-    closest_hit::<L, Standard>(ray, tris)
-}
-
-/// Occlusion against triangles, standard tier.
-#[cfg(feature = "triangle")]
-pub fn any_triangle<L: Lanes>(ray: &RayLanes<L>, tris: &[PackedTriangle]) -> L::Mask {
-    any_hit::<L, Standard>(ray, tris)
-}
-
-/// Closest triangle hit per lane, watertight tier.
-#[cfg(feature = "triangle")]
-pub fn closest_triangle_watertight<L: Lanes>(
-    ray: &RayLanes<L>,
-    tris: &[VertexTriangle],
-) -> ClosestHit<L> {
-    closest_hit::<L, Watertight>(ray, tris)
-}
-
-/// Closest sphere hit per lane, stable sphere ([`closest_hit`] with [`StableSphere`]).
-#[cfg(feature = "sphere")]
-pub fn closest_sphere<L: Lanes>(ray: &RayLanes<L>, spheres: &[PackedSphere]) -> ClosestHit<L> {
-    closest_hit::<L, StableSphere>(ray, spheres)
-}
-
-/// Occlusion against spheres, stable sphere.
-#[cfg(feature = "sphere")]
-pub fn any_sphere<L: Lanes>(ray: &RayLanes<L>, spheres: &[PackedSphere]) -> L::Mask {
-    any_hit::<L, StableSphere>(ray, spheres)
-}
-
-/// Closest sphere hit per lane, naive sphere.
-#[cfg(feature = "sphere")]
-pub fn closest_sphere_naive<L: Lanes>(
-    ray: &RayLanes<L>,
-    spheres: &[PackedSphere],
-) -> ClosestHit<L> {
-    closest_hit::<L, NaiveSphere>(ray, spheres)
 }
 
 #[cfg(test)]

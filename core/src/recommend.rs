@@ -71,9 +71,9 @@ pub struct SceneSpec {
 /// A tier the recommender can pick.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TierChoice {
-    /// [`crate::kernel::Standard`].
+    /// [`crate::kernels::MollerTrumbore`].
     Standard,
-    /// [`crate::kernel::Watertight`].
+    /// [`crate::kernels::Watertight`].
     Watertight,
     /// The standard kernel at f64 lanes (not watertight: never chosen for closed meshes).
     F64,

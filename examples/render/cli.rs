@@ -168,7 +168,7 @@ fn load_mesh(path: &std::path::Path) -> Result<(Vec<[f32; 3]>, Vec<u32>), String
                 u32::MAX
             ));
         }
-        let p = octoray::core::ingest::positions_from_flat(&m.mesh.positions)
+        let p = octoray::ingest::positions_from_flat(&m.mesh.positions)
             .map_err(|e| format!("{}: {e}", path.display()))?;
         positions.extend_from_slice(p);
         indices.extend(m.mesh.indices.iter().map(|i| i.saturating_add(base)));

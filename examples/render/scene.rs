@@ -2,18 +2,16 @@
 //! `tests/render.rs`.
 #![allow(dead_code)]
 
-use octoray::core::bvh::traverse::{closest_hits, occluded};
-use octoray::core::bvh::{BuildStats, Bvh8};
-use octoray::core::ingest;
-use octoray::core::kernel::{Fast, Kernel, StableSphere, Standard, Watertight};
-use octoray::core::offset::offset_ray_origin;
-use octoray::core::prim::Primitive;
-use octoray::core::query::{any_hit, closest_hit};
-use octoray::core::recommend::{recommend, Recommendation, SceneSpec, TierChoice};
-use octoray::core::{LaneMask, Lanes, RayLanes};
+use octoray::bvh::{BuildStats, Bvh8};
 use octoray::glam::{DVec3, Vec3};
+use octoray::ingest;
+use octoray::kernels::{Kernel, MollerTrumbore, MollerTrumboreFast, StableSphere, Watertight};
+use octoray::packet::{self, scene as bvh};
 use octoray::packet::{f32x16, f32x4, f32x8};
-use octoray::{Hit, PackedSphere, PackedTriangle, Ray, VertexTriangle};
+use octoray::prim::Primitive;
+use octoray::recommend::{recommend, Recommendation, SceneSpec, TierChoice};
+use octoray::Lanes;
+use octoray::{Hit, PackedSphere, PackedTriangle, Ray, Shade, Sphere, VertexTriangle};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 use wide::{f64x4, f64x8};
@@ -328,60 +326,44 @@ where
         .map(|y| {
             let primary: Vec<Ray> = (0..w).map(|x| scene.camera_ray(x, y, w, h)).collect();
             // Closest triangle and closest sphere per ray, the nearer wins.
-            let mut hits: Vec<Option<(Hit, bool)>> = Vec::with_capacity(primary.len());
             let mut tri_hits = vec![None; primary.len()];
-            closest_hits::<L, K>(bvh, &primary, &mut tri_hits);
-            for (c, chunk) in primary.chunks(L::LANES).enumerate() {
-                let p = RayLanes::<L>::load(chunk);
-                let hs = closest_hit::<L, StableSphere>(&p, &prims.spheres);
-                for i in 0..chunk.len() {
-                    hits.push(match (tri_hits[c * L::LANES + i], hs.lane(i)) {
-                        (Some(a), Some(b)) => Some(if b.t < a.t { (b, true) } else { (a, false) }),
-                        (Some(a), None) => Some((a, false)),
-                        (None, Some(b)) => Some((b, true)),
-                        (None, None) => None,
-                    });
-                }
-            }
+            let mut sphere_hits = vec![None; primary.len()];
+            bvh::closest::<L, K>(bvh, &primary, &mut tri_hits);
+            packet::closest::<L, StableSphere>(&primary, &prims.spheres, &mut sphere_hits);
+            let hits: Vec<Option<(Hit, bool)>> = tri_hits
+                .iter()
+                .zip(&sphere_hits)
+                .map(|(a, b)| match (*a, *b) {
+                    (Some(a), Some(b)) => Some(if b.t < a.t { (b, true) } else { (a, false) }),
+                    (Some(a), None) => Some((a, false)),
+                    (None, Some(b)) => Some((b, true)),
+                    (None, None) => None,
+                })
+                .collect();
             // Shading points and shadow rays towards the sun, from conservatively offset origins.
             let mut shade = vec![];
             let mut shadow = vec![];
             for (ray, hit) in primary.iter().zip(&hits) {
                 let Some((h, is_sphere)) = *hit else { continue };
-                let (p, mut n, err) = if is_sphere {
+                let surface = if is_sphere {
                     let (c, r) = scene.spheres[h.prim as usize];
-                    let (ps, e) = octoray::core::offset::sphere_hit_point(ray, h.t, c, r);
-                    (ps, ps - c, e)
+                    Sphere::new(c, r).surface(ray, &h)
                 } else {
                     let t = scene.tris[h.prim as usize];
-                    let (pt, e) = octoray::core::offset::triangle_hit_point(
-                        &VertexTriangle::new(t[0], t[1], t[2]),
-                        h.u,
-                        h.v,
-                    );
-                    (pt, (t[1] - t[0]).cross(t[2] - t[0]), e)
+                    VertexTriangle::new(t[0], t[1], t[2]).surface(ray, &h)
                 };
-                n = n.normalize_or_zero();
-                if n.dot(ray.dir) > 0.0 {
-                    n = -n;
-                }
-                shade.push((p, n));
-                shadow.push(Ray::new(
-                    offset_ray_origin(p, err, n, scene.light),
-                    scene.light,
-                ));
+                shade.push((surface.point, surface.normal));
+                shadow.push(Ray::new(surface.spawn(scene.light), scene.light));
             }
-            let mut lit = Vec::with_capacity(shadow.len());
             let mut blocked_by_tri = vec![false; shadow.len()];
-            occluded::<L, K>(bvh, &shadow, &mut blocked_by_tri);
-            for (c, chunk) in shadow.chunks(L::LANES).enumerate() {
-                let p = RayLanes::<L>::load(chunk);
-                let bits = any_hit::<L, StableSphere>(&p, &prims.spheres).bitmask();
-                lit.extend(
-                    (0..chunk.len())
-                        .map(|i| (bits >> i) & 1 == 0 && !blocked_by_tri[c * L::LANES + i]),
-                );
-            }
+            let mut blocked_by_sphere = vec![false; shadow.len()];
+            bvh::occluded::<L, K>(bvh, &shadow, &mut blocked_by_tri);
+            packet::occluded::<L, StableSphere>(&shadow, &prims.spheres, &mut blocked_by_sphere);
+            let lit: Vec<bool> = blocked_by_tri
+                .iter()
+                .zip(&blocked_by_sphere)
+                .map(|(a, b)| !a && !b)
+                .collect();
             rays.fetch_add((primary.len() + shadow.len()) as u64, Ordering::Relaxed);
             let (mut rgb, mut kinds) = (
                 Vec::with_capacity(w as usize * 3),
@@ -471,13 +453,13 @@ pub fn render(
     };
     Ok(match (tier, lanes) {
         (TierArg::Standard, 4) => {
-            render_with::<f32x4, Standard>(scene, &prims, &prims.packed, w, h, progress)
+            render_with::<f32x4, MollerTrumbore>(scene, &prims, &prims.packed, w, h, progress)
         }
         (TierArg::Standard, 8) => {
-            render_with::<f32x8, Standard>(scene, &prims, &prims.packed, w, h, progress)
+            render_with::<f32x8, MollerTrumbore>(scene, &prims, &prims.packed, w, h, progress)
         }
         (TierArg::Standard, 16) => {
-            render_with::<f32x16, Standard>(scene, &prims, &prims.packed, w, h, progress)
+            render_with::<f32x16, MollerTrumbore>(scene, &prims, &prims.packed, w, h, progress)
         }
         (TierArg::Watertight, 4) => {
             render_with::<f32x4, Watertight>(scene, &prims, &prims.verts, w, h, progress)
@@ -489,19 +471,19 @@ pub fn render(
             render_with::<f32x16, Watertight>(scene, &prims, &prims.verts, w, h, progress)
         }
         (TierArg::Fast, 4) => {
-            render_with::<f32x4, Fast>(scene, &prims, &prims.packed, w, h, progress)
+            render_with::<f32x4, MollerTrumboreFast>(scene, &prims, &prims.packed, w, h, progress)
         }
         (TierArg::Fast, 8) => {
-            render_with::<f32x8, Fast>(scene, &prims, &prims.packed, w, h, progress)
+            render_with::<f32x8, MollerTrumboreFast>(scene, &prims, &prims.packed, w, h, progress)
         }
         (TierArg::Fast, 16) => {
-            render_with::<f32x16, Fast>(scene, &prims, &prims.packed, w, h, progress)
+            render_with::<f32x16, MollerTrumboreFast>(scene, &prims, &prims.packed, w, h, progress)
         }
         (TierArg::F64, 4) => {
-            render_with::<f64x4, Standard>(scene, &prims, &prims.packed, w, h, progress)
+            render_with::<f64x4, MollerTrumbore>(scene, &prims, &prims.packed, w, h, progress)
         }
         (TierArg::F64, 8) => {
-            render_with::<f64x8, Standard>(scene, &prims, &prims.packed, w, h, progress)
+            render_with::<f64x8, MollerTrumbore>(scene, &prims, &prims.packed, w, h, progress)
         }
         (TierArg::WatertightF64, 4) => {
             render_with::<f64x4, Watertight>(scene, &prims, &prims.verts, w, h, progress)

@@ -3,12 +3,21 @@
 //!
 //! - Widths: [`f32x4`], [`f32x8`], [`f32x16`] for the f32 tiers, [`f64x4`], [`f64x8`] for the f64
 //!   tier (re-exported, so you never need a matching `wide` version yourself).
-//! - Tiers ([`tiers`]): [`Standard`](tiers::Standard) (Möller-Trumbore), [`Watertight`](tiers::Watertight),
-//!   [`Fast`](tiers::Fast), culled variants, [`StableSphere`](tiers::StableSphere),
-//!   [`NaiveSphere`](tiers::NaiveSphere); at an f64 width any of them is the f64 tier.
-//! - Slices of rays against slices of primitives (brute force): [`closest`], [`closest_t`],
-//!   [`occluded`]. Against a scene ([`Bvh8`]): [`scene::closest`], [`scene::occluded`].
-//! - One packet: [`RayPacket<L>`] with [`query`] (slices) and [`scene`] (BVH).
+//! - Tiers ([`tiers`]): [`MollerTrumbore`](tiers::MollerTrumbore) (the standard tier),
+//!   [`Watertight`](tiers::Watertight), [`MollerTrumboreFast`](tiers::MollerTrumboreFast) (the
+//!   fast tier), the culling variants, [`StableSphere`](tiers::StableSphere) and
+//!   [`NaiveSphere`](tiers::NaiveSphere); at an f64 width any of them but the fast tier is the
+//!   f64 tier.
+//! - One vocabulary: `closest` (nearest hit with barycentrics and primitive index), `closest_t`
+//!   (nearest `t` only), `occluded` (any hit in range); the module or suffix says what they run
+//!   over:
+//!   - slices of rays against slices of primitives (brute force): [`closest`], [`closest_t`],
+//!     [`occluded`];
+//!   - one packet ([`RayLanes<L>`]) against a slice of primitives: [`query::closest`],
+//!     [`query::closest_t`], [`query::occluded`];
+//!   - against a scene ([`Bvh8`]/[`Bvh8Ref`]): [`scene::closest`], [`scene::occluded`] (slices
+//!     of rays, packets or single rays as fits), `scene::*_packet` (one packet) and
+//!     `scene::*_ray` (one ray).
 //!
 //! Every lane's answer is bit-identical to the scalar twin (`octoray_core::query` at `L = f32`),
 //! on every build, for every tier but the fast one (whose contract is an error bound).
@@ -40,31 +49,27 @@
 pub use octoray_core::bvh::{BuildStats, Bvh8};
 pub use octoray_core::bvh::{Bvh8Node, Bvh8Ref, BvhError};
 pub use octoray_core::query::{self, ClosestHit};
-pub use octoray_core::{glam, Hit, LaneMask, Lanes, Ray};
+pub use octoray_core::{glam, Hit, LaneMask, Lanes, Ray, RayLanes};
 #[cfg(feature = "sphere")]
 pub use octoray_core::{PackedSphere, Sphere};
 #[cfg(feature = "triangle")]
 pub use octoray_core::{PackedTriangle, Triangle, VertexTriangle};
+#[cfg(any(feature = "triangle", feature = "sphere"))]
+pub use octoray_core::{Shade, Surface};
 pub use wide::{f32x16, f32x4, f32x8, f64x4, f64x8};
 
 /// The accuracy tiers (kernel types): pick one per call.
 pub mod tiers {
-    pub use octoray_core::kernel::Kernel;
+    pub use octoray_core::kernels::Kernel;
     #[cfg(feature = "triangle")]
-    pub use octoray_core::kernel::{Fast, Standard, StandardCulled, Watertight, WatertightCulled};
+    pub use octoray_core::kernels::{
+        MollerTrumbore, MollerTrumboreCulled, MollerTrumboreFast, Watertight, WatertightCulled,
+    };
     #[cfg(feature = "sphere")]
-    pub use octoray_core::kernel::{NaiveSphere, StableSphere};
+    pub use octoray_core::kernels::{NaiveSphere, StableSphere};
 }
 
 use tiers::Kernel;
-
-/// `L::LANES` rays in SoA form with an active-lane mask (see [`octoray_core::RayLanes`]).
-pub type RayPacket<L = f32x8> = octoray_core::RayLanes<L>;
-
-/// Splits a slice of rays of any length into packets; the last one is partial and masked.
-pub fn packets<L: Lanes + 'static>(rays: &[Ray]) -> impl Iterator<Item = RayPacket<L>> + '_ {
-    rays.chunks(L::LANES).map(RayPacket::<L>::load)
-}
 
 /// Panics unless `out` has one entry per ray (the `copy_from_slice` convention: a length
 /// mismatch is a caller bug, never silently truncated).
@@ -84,7 +89,7 @@ fn check_len(what: &str, rays: usize, out: usize) {
 pub fn closest<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim], out: &mut [Option<Hit>]) {
     check_len("closest", rays.len(), out.len());
     for (chunk, out) in rays.chunks(L::LANES).zip(out.chunks_mut(L::LANES)) {
-        let h = query::closest_hit::<L, K>(&RayPacket::load(chunk), prims);
+        let h = query::closest::<L, K>(&RayLanes::load(chunk), prims);
         for (i, o) in out.iter_mut().enumerate() {
             *o = h.lane(i);
         }
@@ -99,7 +104,7 @@ pub fn closest<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim], out: &mu
 pub fn closest_t<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim], out: &mut [Option<f32>]) {
     check_len("closest_t", rays.len(), out.len());
     for (chunk, out) in rays.chunks(L::LANES).zip(out.chunks_mut(L::LANES)) {
-        let (m, t) = query::closest_t::<L, K>(&RayPacket::load(chunk), prims);
+        let (m, t) = query::closest_t::<L, K>(&RayLanes::load(chunk), prims);
         let bits = m.bitmask();
         for (i, o) in out.iter_mut().enumerate() {
             *o = ((bits >> i) & 1 == 1).then(|| octoray_core::Scalar::to_f32(t.lane(i)));
@@ -114,7 +119,7 @@ pub fn closest_t<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim], out: &
 pub fn occluded<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim], out: &mut [bool]) {
     check_len("occluded", rays.len(), out.len());
     for (chunk, out) in rays.chunks(L::LANES).zip(out.chunks_mut(L::LANES)) {
-        let bits = query::any_hit::<L, K>(&RayPacket::load(chunk), prims).bitmask();
+        let bits = query::occluded::<L, K>(&RayLanes::load(chunk), prims).bitmask();
         for (i, o) in out.iter_mut().enumerate() {
             *o = (bits >> i) & 1 == 1;
         }
@@ -125,7 +130,7 @@ pub fn occluded<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim], out: &m
 /// above over the slice the tree was built from, bit for bit.
 pub mod scene {
     pub use octoray_core::bvh::traverse::{
-        any_hit, any_hit_packet, closest_hit, closest_hit_packet, closest_hits as closest,
-        closest_t_packet, occluded,
+        closest, closest_packet, closest_ray, closest_t_packet, occluded, occluded_packet,
+        occluded_ray,
     };
 }

@@ -5,11 +5,12 @@
 
 use octoray_core::glam::Vec3;
 use octoray_packet::tiers::{
-    Fast, Kernel, NaiveSphere, StableSphere, Standard, StandardCulled, Watertight, WatertightCulled,
+    Kernel, MollerTrumbore, MollerTrumboreCulled, MollerTrumboreFast, NaiveSphere, StableSphere,
+    Watertight, WatertightCulled,
 };
 use octoray_packet::{
     closest, closest_t, occluded, scene, Bvh8, ClosestHit, Hit, Lanes, PackedSphere,
-    PackedTriangle, Ray, RayPacket, VertexTriangle,
+    PackedTriangle, Ray, RayLanes, VertexTriangle,
 };
 use octoray_packet::{f32x16, f32x4, f32x8, f64x4, f64x8};
 
@@ -61,8 +62,7 @@ where
     occluded::<L, K>(&rays, prims, &mut occ);
     let mut hits = 0;
     for (i, r) in rays.iter().enumerate() {
-        let twin =
-            octoray_core::query::closest_hit::<S, K>(&RayPacket::<S>::single(r), prims).lane(0);
+        let twin = octoray_core::query::closest::<S, K>(&RayLanes::<S>::single(r), prims).lane(0);
         assert_eq!(out[i], twin, "ray {i}");
         assert_eq!(ts[i], twin.map(|h| h.t), "ray {i}");
         assert_eq!(occ[i], twin.is_some(), "ray {i}");
@@ -101,8 +101,8 @@ fn every_tier_at_every_width_through_the_packet_crate() {
             }
         };
     }
-    widths!(Standard, &packed);
-    widths!(StandardCulled, &packed);
+    widths!(MollerTrumbore, &packed);
+    widths!(MollerTrumboreCulled, &packed);
     widths!(Watertight, &verts);
     widths!(WatertightCulled, &verts);
     widths!(StableSphere, &spheres);
@@ -113,11 +113,11 @@ fn every_tier_at_every_width_through_the_packet_crate() {
         let rays = rays();
         let (mut a, mut b) = (vec![None; rays.len()], vec![None; rays.len()]);
         match w {
-            4 => closest::<f32x4, Fast>(&rays, &packed, &mut a),
-            8 => closest::<f32x8, Fast>(&rays, &packed, &mut a),
-            _ => closest::<f32x16, Fast>(&rays, &packed, &mut a),
+            4 => closest::<f32x4, MollerTrumboreFast>(&rays, &packed, &mut a),
+            8 => closest::<f32x8, MollerTrumboreFast>(&rays, &packed, &mut a),
+            _ => closest::<f32x16, MollerTrumboreFast>(&rays, &packed, &mut a),
         }
-        closest::<f32x8, Standard>(&rays, &packed, &mut b);
+        closest::<f32x8, MollerTrumbore>(&rays, &packed, &mut b);
         let prim = |h: &Option<Hit>| h.map(|h| h.prim);
         assert_eq!(
             a.iter().map(prim).collect::<Vec<_>>(),
@@ -156,13 +156,13 @@ fn lane_past_the_width_is_none_not_lane_zero() {
         .collect();
     let r = rays()[0];
     let one: ClosestHit<f32> =
-        octoray_core::query::closest_hit::<f32, Standard>(&RayPacket::single(&r), &packed);
+        octoray_core::query::closest::<f32, MollerTrumbore>(&RayLanes::single(&r), &packed);
     assert!(one.lane(0).is_some());
     for i in [1, 31, 32, 33, 64, usize::MAX] {
         assert_eq!(one.lane(i), None, "lane {i} of a one-lane result");
     }
     let eight =
-        octoray_core::query::closest_hit::<f32x8, Standard>(&RayPacket::load(&[r; 8]), &packed);
+        octoray_core::query::closest::<f32x8, MollerTrumbore>(&RayLanes::load(&[r; 8]), &packed);
     assert!(eight.lane(7).is_some());
     assert_eq!(eight.lane(8), None);
     assert_eq!(eight.lane(40), None);
@@ -173,7 +173,7 @@ fn lane_past_the_width_is_none_not_lane_zero() {
 fn closest_with_a_short_output_panics() {
     let packed = [PackedTriangle::new(Vec3::ZERO, Vec3::X, Vec3::Y)];
     let mut out = [None; 8];
-    closest::<f32x8, Standard>(&[Ray::new(Vec3::Z, -Vec3::Z); 9], &packed, &mut out);
+    closest::<f32x8, MollerTrumbore>(&[Ray::new(Vec3::Z, -Vec3::Z); 9], &packed, &mut out);
 }
 
 #[test]
@@ -181,14 +181,14 @@ fn closest_with_a_short_output_panics() {
 fn occluded_with_a_long_output_panics() {
     let packed = [PackedTriangle::new(Vec3::ZERO, Vec3::X, Vec3::Y)];
     let mut out = [false; 4];
-    occluded::<f32x4, Standard>(&[Ray::new(Vec3::Z, -Vec3::Z); 3], &packed, &mut out);
+    occluded::<f32x4, MollerTrumbore>(&[Ray::new(Vec3::Z, -Vec3::Z); 3], &packed, &mut out);
 }
 
 #[test]
 #[should_panic(expected = "octoray closest_t: 2 rays but 0 output entries")]
 fn closest_t_with_no_output_panics() {
     let packed = [PackedTriangle::new(Vec3::ZERO, Vec3::X, Vec3::Y)];
-    closest_t::<f32x16, Standard>(&[Ray::new(Vec3::Z, -Vec3::Z); 2], &packed, &mut []);
+    closest_t::<f32x16, MollerTrumbore>(&[Ray::new(Vec3::Z, -Vec3::Z); 2], &packed, &mut []);
 }
 
 #[test]

@@ -5,11 +5,11 @@
 use super::oracle::{self, SphereTruth};
 use super::Rng;
 use glam::Vec3;
-use octoray::core::kernel::{Fast, NaiveSphere, StableSphere, Standard, Watertight};
-use octoray::core::query::closest_hit;
-use octoray::core::textbook::{self, InsideTest, TextbookHit};
-use octoray::core::{intersect, RayLanes, VertexTriangle};
+use octoray::kernels::{MollerTrumbore, MollerTrumboreFast, NaiveSphere, StableSphere, Watertight};
 use octoray::packet::f32x8;
+use octoray::query::closest;
+use octoray::textbook::{self, InsideTest, TextbookHit};
+use octoray::{intersect, RayLanes, VertexTriangle};
 use octoray::{Hit, PackedSphere, PackedTriangle, Ray, Sphere, Triangle};
 
 /// f32 unit roundoff.
@@ -111,10 +111,12 @@ impl TriTier {
                 textbook::intersect_triangle(&c.ray, &Triangle::new(a, b, v2), InsideTest::Full)
                     .map(textbook_hit)
             }
-            Self::Standard => intersect::<f32, Standard>(&c.ray, &packed),
+            Self::Standard => intersect::<f32, MollerTrumbore>(&c.ray, &packed),
             Self::Watertight => intersect::<f32, Watertight>(&c.ray, &verts),
-            Self::Fast => closest_hit::<f32x8, Fast>(&RayLanes::load(&[c.ray]), &[packed]).lane(0),
-            Self::F64 => intersect::<f64, Standard>(&c.ray, &packed),
+            Self::Fast => {
+                closest::<f32x8, MollerTrumboreFast>(&RayLanes::load(&[c.ray]), &[packed]).lane(0)
+            }
+            Self::F64 => intersect::<f64, MollerTrumbore>(&c.ray, &packed),
             Self::F64Watertight => intersect::<f64, Watertight>(&c.ray, &verts),
         }
     }

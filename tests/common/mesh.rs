@@ -3,10 +3,10 @@
 
 use super::Rng;
 use glam::Vec3;
-use octoray::core::kernel::{Fast, Standard, Watertight};
-use octoray::core::query::any_hit;
-use octoray::core::{LaneMask, RayLanes, VertexTriangle};
+use octoray::kernels::{MollerTrumbore, MollerTrumboreFast, Watertight};
 use octoray::packet::f32x8;
+use octoray::query::occluded;
+use octoray::{LaneMask, RayLanes, VertexTriangle};
 use octoray::{PackedTriangle, Ray};
 use std::collections::HashMap;
 
@@ -139,11 +139,11 @@ pub struct Escapes {
     pub fast: usize,
 }
 
-fn escapes_with<K: octoray::core::Kernel<f32x8>>(rays: &[Ray], prims: &[K::Prim]) -> usize {
+fn escapes_with<K: octoray::Kernel<f32x8>>(rays: &[Ray], prims: &[K::Prim]) -> usize {
     rays.chunks(8)
         .map(|c| {
             let p = RayLanes::<f32x8>::load(c);
-            let hit = any_hit::<f32x8, K>(&p, prims).bitmask();
+            let hit = occluded::<f32x8, K>(&p, prims).bitmask();
             c.len() - hit.count_ones() as usize
         })
         .sum()
@@ -153,9 +153,9 @@ fn escapes_with<K: octoray::core::Kernel<f32x8>>(rays: &[Ray], prims: &[K::Prim]
 pub fn escapes(mesh: &Mesh, rays: &[Ray]) -> Escapes {
     let (packed, verts) = (mesh.packed(), mesh.vertex_tris());
     Escapes {
-        standard: escapes_with::<Standard>(rays, &packed),
+        standard: escapes_with::<MollerTrumbore>(rays, &packed),
         watertight: escapes_with::<Watertight>(rays, &verts),
-        fast: escapes_with::<Fast>(rays, &packed),
+        fast: escapes_with::<MollerTrumboreFast>(rays, &packed),
     }
 }
 

@@ -4,10 +4,10 @@
 use octoray_core::glam::Vec3;
 use octoray_core::{PackedSphere, PackedTriangle, Ray};
 use octoray_core::bvh::{traverse, Bvh8Node, Bvh8Ref};
-use octoray_core::kernel::Watertight;
+use octoray_core::kernels::Watertight;
 use octoray_core::VertexTriangle;
-use octoray_packet::tiers::{StableSphere, Standard};
-use octoray_packet::{f32x8, LaneMask, RayPacket};
+use octoray_packet::tiers::{StableSphere, MollerTrumbore};
+use octoray_packet::{f32x8, LaneMask, RayLanes};
 
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo) -> ! {
@@ -20,9 +20,9 @@ pub extern "C" fn octoray_nostd_probe(x: f32) -> u32 {
     let ray = Ray::new(Vec3::new(x, -2.0, -1.0), Vec3::new(1.0, 2.0, 3.0));
     let tri = PackedTriangle::new(Vec3::new(0.0, 6.0, 7.0), Vec3::new(-3.0, 1.0, 5.0), Vec3::new(-2.0, 1.0, 4.0));
     let sph = PackedSphere::new(Vec3::ZERO, 10.0);
-    let p = RayPacket::<f32x8>::load(&[ray; 5]);
-    let t = octoray_packet::query::closest_hit::<_, Standard>(&p, &[tri]).mask.bitmask();
-    let s = octoray_packet::query::any_hit::<_, StableSphere>(&p, &[sph]).bitmask();
+    let p = RayLanes::<f32x8>::load(&[ray; 5]);
+    let t = octoray_packet::query::closest::<_, MollerTrumbore>(&p, &[tri]).mask.bitmask();
+    let s = octoray_packet::query::occluded::<_, StableSphere>(&p, &[sph]).bitmask();
     let scalar = octoray_core::intersect_triangle(&ray, &tri).is_some() as u32;
     t ^ (s << 8) ^ (scalar << 16)
 }
@@ -41,9 +41,9 @@ pub extern "C" fn octoray_nostd_bvh_probe(
         return u32::MAX;
     };
     let ray = Ray::new(Vec3::new(x, 0.25, -1.0), Vec3::new(0.0, 0.0, 1.0));
-    let packet = RayPacket::<f32x8>::load(&[ray; 3]);
-    let p = traverse::closest_hit_packet::<f32x8, Watertight>(bvh, &packet);
-    match traverse::closest_hit::<f32x8, Watertight>(bvh, &ray) {
+    let packet = RayLanes::<f32x8>::load(&[ray; 3]);
+    let p = traverse::closest_packet::<f32x8, Watertight>(bvh, &packet);
+    match traverse::closest_ray::<f32x8, Watertight>(bvh, &ray) {
         Some(h) => h.prim ^ (p.mask.bitmask() << 8),
         None => u32::MAX,
     }

@@ -6,12 +6,10 @@
 //! (`-- --quick` for one run per row instead of the best of three; `-- --only TEXT` for the rows
 //! whose description contains TEXT, and `-- --sponza` for Sponza alone).
 
-use octoray::core::bvh::traverse::{
-    any_hit, any_hit_packet, closest_hit, closest_hit_packet, closest_hits,
-};
-use octoray::core::bvh::{Bvh8, Bvh8Ref};
-use octoray::core::kernel::{Kernel, Standard, Watertight};
-use octoray::core::{LaneMask, Lanes, RayLanes};
+use octoray::bvh::traverse::{closest, closest_packet, closest_ray, occluded_packet, occluded_ray};
+use octoray::bvh::{Bvh8, Bvh8Ref};
+use octoray::kernels::{Kernel, MollerTrumbore, Watertight};
+use octoray::{LaneMask, Lanes, RayLanes};
 use octoray::{PackedTriangle, Ray};
 use octoray_benches::scenes::{jittered_sphere, sponza, SceneSet};
 use rayon::prelude::*;
@@ -35,7 +33,7 @@ fn best(runs: usize, mut f: impl FnMut() -> u64) -> (f64, u64) {
 fn packets_closest<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]) -> u64 {
     rays.chunks(L::LANES)
         .map(|c| {
-            let h = closest_hit_packet::<L, K>(bvh, &RayLanes::load(c));
+            let h = closest_packet::<L, K>(bvh, &RayLanes::load(c));
             u64::from(h.mask.bitmask().count_ones())
         })
         .sum()
@@ -45,7 +43,7 @@ fn packets_any<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]) 
     rays.chunks(L::LANES)
         .map(|c| {
             u64::from(
-                any_hit_packet::<L, K>(bvh, &RayLanes::load(c))
+                occluded_packet::<L, K>(bvh, &RayLanes::load(c))
                     .bitmask()
                     .count_ones(),
             )
@@ -55,17 +53,17 @@ fn packets_any<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]) 
 
 fn singles_closest<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]) -> u64 {
     rays.iter()
-        .filter(|r| closest_hit::<L, K>(bvh, r).is_some())
+        .filter(|r| closest_ray::<L, K>(bvh, r).is_some())
         .count() as u64
 }
 
 fn singles_any<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]) -> u64 {
-    rays.iter().filter(|r| any_hit::<L, K>(bvh, r)).count() as u64
+    rays.iter().filter(|r| occluded_ray::<L, K>(bvh, r)).count() as u64
 }
 
 fn batch_closest<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]) -> u64 {
     let mut out = vec![None; rays.len()];
-    closest_hits::<L, K>(bvh, rays, &mut out);
+    closest::<L, K>(bvh, rays, &mut out);
     out.iter().filter(|h| h.is_some()).count() as u64
 }
 
@@ -168,7 +166,7 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
         "packet-8",
         "standard",
         p8.len(),
-        &mut || packets_closest::<f32x8, Standard>(sr, &p8),
+        &mut || packets_closest::<f32x8, MollerTrumbore>(sr, &p8),
     );
     row(
         "primary",
@@ -176,7 +174,7 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
         "single ray",
         "standard",
         p8.len(),
-        &mut || singles_closest::<f32x8, Standard>(sr, &p8),
+        &mut || singles_closest::<f32x8, MollerTrumbore>(sr, &p8),
     );
     row(
         "primary",

@@ -34,6 +34,7 @@
 #[cfg(feature = "alloc")]
 mod build;
 pub mod slab;
+#[cfg(feature = "wide")]
 pub mod traverse;
 
 use crate::prim::Primitive;

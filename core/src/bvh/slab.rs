@@ -21,9 +21,9 @@
 //! component whose reciprocal overflows is treated the same way: that axis does not bound the
 //! ray. The test is then only looser, never wrong.
 
-use crate::lanes::{LaneMask, Lanes, Scalar};
-use crate::ray::RayLanes;
-use crate::vec3::V3;
+use crate::lanes::V3;
+use crate::lanes::{LaneMask, Lanes};
+use crate::prim::RayLanes;
 
 /// Relative slack of boxes and origins: 2⁻¹⁷ (≈ 128 ulp of f32) of the largest coordinate
 /// magnitude. It covers every tier's hit/miss margin (≤ 64·ε of the distance from the origin to
@@ -147,7 +147,8 @@ pub fn widen(lo: [f32; 3], hi: [f32; 3]) -> ([f32; 3], [f32; 3]) {
 /// `t` moved up so that a kernel hit at exactly `t` passes the kernels' scaled range test: the
 /// traversal's `t_max` once it has a hit at `t` (the final choice compares exactly).
 #[inline(always)]
-pub(crate) fn loosen<S: Scalar>(t: S) -> S {
+#[cfg(feature = "wide")]
+pub(crate) fn loosen<S: crate::lanes::Scalar>(t: S) -> S {
     let x = t.to_f64();
     S::from_f64(x + x.abs() * (1.0 / 1_048_576.0) + f64::from(f32::MIN_POSITIVE))
 }

@@ -2,9 +2,9 @@
 //!
 //! | call | rays | how |
 //! |---|---|---|
-//! | [`closest_hit`], [`any_hit`] | one | one `f32x8` box test per node (its eight children), children visited near-first; leaves tested `L::LANES` primitives at a time ([`Primitive::gather`]) |
-//! | [`closest_hit_packet`], [`closest_t_packet`], [`any_hit_packet`] | `L::LANES` | the packet's active mask goes down the tree together, children visited near-first by the packet's entry distance; when a node is reached by at most a quarter of the lanes (and at most 2), those continue ray by ray (hybrid traversal) |
-//! | [`closest_hits`], [`occluded`] | any slice | packets where a packet's rays share a direction octant (coherent), single rays elsewhere |
+//! | [`closest_ray`], [`occluded_ray`] | one | one `f32x8` box test per node (its eight children), children visited near-first; leaves tested `L::LANES` primitives at a time ([`Primitive::gather`]) |
+//! | [`closest_packet`], [`closest_t_packet`], [`occluded_packet`] | `L::LANES` | the packet's active mask goes down the tree together, children visited near-first by the packet's entry distance; when a node is reached by at most a quarter of the lanes (and at most 2), those continue ray by ray (hybrid traversal) |
+//! | [`closest`], [`occluded`] | any slice | packets where a packet's rays share a direction octant (coherent), single rays elsewhere |
 //!
 //! Every answer equals the brute-force query of [`crate::query`] over the caller's slice (see the
 //! [module contract](super)): same hit/miss, same `t`, `u`, `v` bits, same primitive index
@@ -12,12 +12,13 @@
 
 use super::slab::{loosen, slab, BoxRay};
 use super::{Bvh8Ref, STACK, WIDTH};
-use crate::kernel::{barycentrics, Kernel};
+use crate::hit::Hit;
+use crate::kernels::{barycentrics, Kernel};
+use crate::lanes::V3;
 use crate::lanes::{LaneMask, Lanes, Scalar};
 use crate::prim::Primitive;
+use crate::prim::{Ray, RayLanes};
 use crate::query::ClosestHit;
-use crate::ray::{Hit, Ray, RayLanes};
-use crate::vec3::V3;
 use arrayvec::ArrayVec;
 use wide::f32x8;
 
@@ -214,12 +215,12 @@ fn single<L: Lanes, K: Kernel<L>, const ANY: bool>(
 /// Closest hit of one ray, leaves tested `L::LANES` primitives at a time with kernel `K`
 /// (`L = f32x8` or `f32x16` for the f32 tiers, `f64x4`/`f64x8` for the f64 tier). `prim` is the
 /// index in the slice the tree was built from.
-pub fn closest_hit<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, ray: &Ray) -> Option<Hit> {
+pub fn closest_ray<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, ray: &Ray) -> Option<Hit> {
     single::<L, K, false>(bvh, ray).1.map(|b| b.hit())
 }
 
 /// Does one ray hit anything in `[t_min, t_max]` (occlusion)? Stops at the first hit.
-pub fn any_hit<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, ray: &Ray) -> bool {
+pub fn occluded_ray<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, ray: &Ray) -> bool {
     single::<L, K, true>(bvh, ray).0
 }
 
@@ -408,9 +409,9 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
 }
 
 /// Closest hit per lane of a packet with kernel `K`. Lane by lane equal to
-/// [`crate::query::closest_hit`] over the slice the tree was built from (the `prim` lanes are
+/// [`crate::query::closest`] over the slice the tree was built from (the `prim` lanes are
 /// indices into that slice). Lanes that miss hold `t = t_max` and zero barycentrics.
-pub fn closest_hit_packet<L: Lanes, K: Kernel<L>>(
+pub fn closest_packet<L: Lanes, K: Kernel<L>>(
     bvh: Bvh8Ref<'_, K::Prim>,
     rays: &RayLanes<L>,
 ) -> ClosestHit<L> {
@@ -426,7 +427,7 @@ pub fn closest_hit_packet<L: Lanes, K: Kernel<L>>(
 }
 
 /// Closest `t` per lane of a packet: the mask of lanes that hit and their nearest `t`, equal to
-/// [`closest_hit_packet`]'s.
+/// [`closest_packet`]'s.
 pub fn closest_t_packet<L: Lanes, K: Kernel<L>>(
     bvh: Bvh8Ref<'_, K::Prim>,
     rays: &RayLanes<L>,
@@ -436,7 +437,7 @@ pub fn closest_t_packet<L: Lanes, K: Kernel<L>>(
 }
 
 /// Lanes of a packet that hit anything in `[t_min, t_max]` (occlusion).
-pub fn any_hit_packet<L: Lanes, K: Kernel<L>>(
+pub fn occluded_packet<L: Lanes, K: Kernel<L>>(
     bvh: Bvh8Ref<'_, K::Prim>,
     rays: &RayLanes<L>,
 ) -> L::Mask {
@@ -459,7 +460,7 @@ fn coherent(rays: &[Ray]) -> bool {
 ///
 /// # Panics
 /// When `out.len() != rays.len()`.
-pub fn closest_hits<L: Lanes, K: Kernel<L>>(
+pub fn closest<L: Lanes, K: Kernel<L>>(
     bvh: Bvh8Ref<'_, K::Prim>,
     rays: &[Ray],
     out: &mut [Option<Hit>],
@@ -467,26 +468,26 @@ pub fn closest_hits<L: Lanes, K: Kernel<L>>(
     assert_eq!(
         out.len(),
         rays.len(),
-        "octoray closest_hits: out has {} entries for {} rays",
+        "octoray closest: out has {} entries for {} rays",
         out.len(),
         rays.len()
     );
     for (chunk, out) in rays.chunks(L::LANES).zip(out.chunks_mut(L::LANES)) {
         if chunk.len() > 1 && coherent(chunk) {
-            let h = closest_hit_packet::<L, K>(bvh, &RayLanes::load(chunk));
+            let h = closest_packet::<L, K>(bvh, &RayLanes::load(chunk));
             for (i, o) in out.iter_mut().enumerate() {
                 *o = h.lane(i);
             }
         } else {
             for (r, o) in chunk.iter().zip(out) {
-                *o = closest_hit::<L, K>(bvh, r);
+                *o = closest_ray::<L, K>(bvh, r);
             }
         }
     }
 }
 
 /// Occlusion of every ray: `out[i]` for `rays[i]`, packets or single rays as
-/// [`closest_hits`] picks them.
+/// [`closest`] picks them.
 ///
 /// # Panics
 /// When `out.len() != rays.len()`.
@@ -500,13 +501,13 @@ pub fn occluded<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray],
     );
     for (chunk, out) in rays.chunks(L::LANES).zip(out.chunks_mut(L::LANES)) {
         if chunk.len() > 1 && coherent(chunk) {
-            let m = any_hit_packet::<L, K>(bvh, &RayLanes::load(chunk)).bitmask();
+            let m = occluded_packet::<L, K>(bvh, &RayLanes::load(chunk)).bitmask();
             for (i, o) in out.iter_mut().enumerate() {
                 *o = (m >> i) & 1 == 1;
             }
         } else {
             for (r, o) in chunk.iter().zip(out) {
-                *o = any_hit::<L, K>(bvh, r);
+                *o = occluded_ray::<L, K>(bvh, r);
             }
         }
     }

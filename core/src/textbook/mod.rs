@@ -3,7 +3,7 @@
 //! Each test has a `*_steps` function that returns every intermediate value the sheet shows, so
 //! the golden tests check the working and not only the answer, and an `intersect_*` function that
 //! returns just the hit. These are the readable reference, not the fast path: use the
-//! [`crate::moller_trumbore`] and [`crate::sphere_stable`] kernels in a renderer.
+//! [`crate::kernels::triangle::moller_trumbore`] and [`crate::kernels::sphere::stable`] kernels in a renderer.
 
 #[cfg(feature = "sphere")]
 pub mod sphere;

@@ -3,10 +3,10 @@
 //! Accuracy: with small integer inputs (as on the sheet) `A`, `B`, `C` and the discriminant are
 //! exact and each root is within 2 ulp (one rounding each for `√disc`, `−B ± √disc` and the
 //! division by `2A`). In general the form is not sound: `C = f·f − r²` and `B² − 4AC` cancel for
-//! small distant spheres, so hit/miss can be wrong; see [`crate::sphere_stable`].
+//! small distant spheres, so hit/miss can be wrong; see [`crate::kernels::sphere::stable`].
 
 use super::TextbookHit;
-use crate::ray::{Ray, Sphere};
+use crate::prim::{Ray, Sphere};
 use glam::Vec3;
 
 /// Why the textbook sphere test ended where it did.

@@ -7,7 +7,7 @@
 //! triangles can both miss (cracks). The packet kernels and the accuracy tiers address that.
 
 use super::TextbookHit;
-use crate::ray::{Ray, Triangle};
+use crate::prim::{Ray, Triangle};
 use glam::Vec3;
 
 /// How the inside-outside test compares the three edge cross products.

@@ -1,4 +1,5 @@
-//! Primitive layouts as lanes, and their bounds.
+//! What a kernel reads: rays ([`Ray`], and [`RayLanes`] for a packet), primitive layouts
+//! ([`triangle`](PackedTriangle), [`sphere`](PackedSphere)) as lanes, and their bounds.
 //!
 //! A kernel body reads its primitive as *lanes*: the same primitive broadcast to every lane (a
 //! packet of rays against one primitive, [`Primitive::splat`]) or up to `L::LANES` primitives one
@@ -10,12 +11,19 @@
 //! to hold the exact sums). A primitive with a non-finite coordinate has no bounds: no kernel can
 //! hit it, and the BVH builder leaves it out.
 
-use crate::lanes::Lanes;
+mod ray;
 #[cfg(feature = "sphere")]
-use crate::ray::PackedSphere;
+mod sphere;
 #[cfg(feature = "triangle")]
-use crate::ray::{PackedTriangle, VertexTriangle};
-use crate::vec3::V3;
+mod triangle;
+
+pub use ray::{Ray, RayLanes};
+#[cfg(feature = "sphere")]
+pub use sphere::{PackedSphere, Sphere, SphereLanes};
+#[cfg(feature = "triangle")]
+pub use triangle::{EdgeLanes, PackedTriangle, Triangle, VertexLanes, VertexTriangle};
+
+use crate::lanes::{Lanes, V3};
 
 /// An axis-aligned box, `lo ≤ hi` componentwise.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -119,141 +127,4 @@ fn field<L: Lanes, P: bytemuck::Pod>(prims: &[P; MAX_LANES], k: usize) -> L {
 #[inline(always)]
 fn field3<L: Lanes, P: bytemuck::Pod>(prims: &[P; MAX_LANES], k: usize) -> V3<L> {
     V3::new(field(prims, k), field(prims, k + 1), field(prims, k + 2))
-}
-
-/// Box of three finite points, or `None`.
-#[cfg(feature = "triangle")]
-fn points_bounds(p: [[f32; 3]; 3]) -> Option<Aabb> {
-    let b = Aabb::EMPTY.grow(p[0]).grow(p[1]).grow(p[2]);
-    b.is_finite().then_some(b)
-}
-
-/// [`PackedTriangle`] as lanes: `v0`, `e1`, `e2`.
-#[cfg(feature = "triangle")]
-#[derive(Clone, Copy, Debug)]
-pub struct EdgeLanes<L> {
-    /// First vertex.
-    pub v0: V3<L>,
-    /// `v1 − v0`.
-    pub e1: V3<L>,
-    /// `v2 − v0`.
-    pub e2: V3<L>,
-}
-
-#[cfg(feature = "triangle")]
-impl Primitive for PackedTriangle {
-    type Lanes<L: Lanes> = EdgeLanes<L>;
-    #[inline(always)]
-    fn splat<L: Lanes>(&self) -> EdgeLanes<L> {
-        EdgeLanes {
-            v0: V3::splat(self.v0),
-            e1: V3::splat(self.e1),
-            e2: V3::splat(self.e2),
-        }
-    }
-    #[inline(always)]
-    fn gather<L: Lanes>(prims: &[Self]) -> EdgeLanes<L> {
-        let prims = &padded(prims);
-        EdgeLanes {
-            v0: field3(prims, 0),
-            e1: field3(prims, 3),
-            e2: field3(prims, 6),
-        }
-    }
-    fn bounds(&self) -> Option<Aabb> {
-        let (v0, e1, e2) = (self.v0, self.e1, self.e2);
-        if !(v0.iter().chain(&e1).chain(&e2).all(|x| x.is_finite())) {
-            return None;
-        }
-        // v0 + e1 and v0 + e2 are exact in the kernels' algebra; their rounded sums are within
-        // half an ulp, so one ulp outward holds the exact points.
-        let a: [f32; 3] = core::array::from_fn(|k| v0[k] + e1[k]);
-        let b: [f32; 3] = core::array::from_fn(|k| v0[k] + e2[k]);
-        let mut bx = points_bounds([v0, a, b])?;
-        for k in 0..3 {
-            bx.lo[k] = down(bx.lo[k]);
-            bx.hi[k] = up(bx.hi[k]);
-        }
-        bx.is_finite().then_some(bx)
-    }
-}
-
-/// [`VertexTriangle`] as lanes: the three vertices.
-#[cfg(feature = "triangle")]
-#[derive(Clone, Copy, Debug)]
-pub struct VertexLanes<L> {
-    /// First vertex.
-    pub v0: V3<L>,
-    /// Second vertex.
-    pub v1: V3<L>,
-    /// Third vertex.
-    pub v2: V3<L>,
-}
-
-#[cfg(feature = "triangle")]
-impl Primitive for VertexTriangle {
-    type Lanes<L: Lanes> = VertexLanes<L>;
-    #[inline(always)]
-    fn splat<L: Lanes>(&self) -> VertexLanes<L> {
-        VertexLanes {
-            v0: V3::splat(self.v0),
-            v1: V3::splat(self.v1),
-            v2: V3::splat(self.v2),
-        }
-    }
-    #[inline(always)]
-    fn gather<L: Lanes>(prims: &[Self]) -> VertexLanes<L> {
-        let prims = &padded(prims);
-        VertexLanes {
-            v0: field3(prims, 0),
-            v1: field3(prims, 3),
-            v2: field3(prims, 6),
-        }
-    }
-    fn bounds(&self) -> Option<Aabb> {
-        points_bounds([self.v0, self.v1, self.v2])
-    }
-}
-
-/// [`PackedSphere`] as lanes: centre and squared radius.
-#[cfg(feature = "sphere")]
-#[derive(Clone, Copy, Debug)]
-pub struct SphereLanes<L> {
-    /// Centre.
-    pub center: V3<L>,
-    /// Squared radius (NaN: never hit).
-    pub radius_sq: L,
-}
-
-#[cfg(feature = "sphere")]
-impl Primitive for PackedSphere {
-    type Lanes<L: Lanes> = SphereLanes<L>;
-    #[inline(always)]
-    fn splat<L: Lanes>(&self) -> SphereLanes<L> {
-        SphereLanes {
-            center: V3::splat(self.center),
-            radius_sq: L::splat(self.radius_sq),
-        }
-    }
-    #[inline(always)]
-    fn gather<L: Lanes>(prims: &[Self]) -> SphereLanes<L> {
-        let prims = &padded(prims);
-        SphereLanes {
-            center: field3(prims, 0),
-            radius_sq: field(prims, 3),
-        }
-    }
-    fn bounds(&self) -> Option<Aabb> {
-        let r2 = self.radius_sq;
-        if !(r2 > 0.0 && r2.is_finite() && self.center.iter().all(|c| c.is_finite())) {
-            return None;
-        }
-        // r = √r² rounded up by an ulp, then every face moved outward by an ulp.
-        let r = up(libm::sqrtf(r2));
-        let b = Aabb {
-            lo: core::array::from_fn(|k| down(self.center[k] - r)),
-            hi: core::array::from_fn(|k| up(self.center[k] + r)),
-        };
-        b.is_finite().then_some(b)
-    }
 }

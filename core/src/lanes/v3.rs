@@ -1,6 +1,6 @@
 //! A 3-vector of lanes, with the operation order every kernel relies on for bit equality.
 
-use crate::lanes::Lanes;
+use super::Lanes;
 use core::ops::{Add, Mul, Neg, Sub};
 
 /// Three lane vectors: one 3-vector per lane (SoA). `V3<f32>` is an ordinary vector.

@@ -39,10 +39,10 @@
 //!   instead of before would remove most of this; not done yet (it changes the δt proof).
 
 use crate::hit::{t_in_range, LanesHit};
+use crate::lanes::V3;
 use crate::lanes::{LaneMask, Lanes, Scalar};
 use crate::prim::{Primitive, VertexLanes};
-use crate::ray::{RayLanes, VertexTriangle};
-use crate::vec3::V3;
+use crate::prim::{RayLanes, VertexTriangle};
 
 /// One axis per lane, as two masks (`x`, `y`; neither set means `z`).
 #[derive(Clone, Copy, Debug)]

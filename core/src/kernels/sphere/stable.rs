@@ -21,8 +21,8 @@
 
 use crate::hit::{nearest_root_in_range, LanesHit};
 use crate::lanes::{LaneMask, Lanes};
+use crate::prim::{PackedSphere, RayLanes};
 use crate::prim::{Primitive, SphereLanes};
-use crate::ray::{PackedSphere, RayLanes};
 
 /// Tests every lane of `ray` against one sphere.
 #[inline(always)]

@@ -3,12 +3,12 @@
 //!
 //! | tier | kernel | primitive | contract |
 //! |---|---|---|---|
-//! | standard | [`Standard`] | [`PackedTriangle`] | [`crate::moller_trumbore`] |
-//! | watertight | [`Watertight`] | [`VertexTriangle`] | [`crate::watertight`] |
-//! | fast | [`Fast`] | [`PackedTriangle`] | [`crate::moller_trumbore_fast`] |
+//! | standard | [`MollerTrumbore`] | [`PackedTriangle`] | [`crate::kernels::triangle::moller_trumbore`] |
+//! | watertight | [`Watertight`] | [`VertexTriangle`] | [`crate::kernels::triangle::watertight`] |
+//! | fast | [`MollerTrumboreFast`] | [`PackedTriangle`] | [`crate::kernels::triangle::moller_trumbore_fast`] |
 //! | f64 | the standard, watertight and sphere kernels at `L = f64`, `f64x4`, `f64x8` (not the fast tier: it exists only at f32 widths) | same | same math, f64 rounding |
-//! | sphere stable | [`StableSphere`] | [`PackedSphere`] | [`crate::sphere_stable`] |
-//! | sphere naive | [`NaiveSphere`] | [`PackedSphere`] | [`crate::sphere_naive`] |
+//! | sphere stable | [`StableSphere`] | [`PackedSphere`] | [`crate::kernels::sphere::stable`] |
+//! | sphere naive | [`NaiveSphere`] | [`PackedSphere`] | [`crate::kernels::sphere::naive`] |
 //!
 //! The f64 tier reads the same f32 primitives and rays (widened exactly) and computes in f64;
 //! reported `t` is rounded once to f32 when read out as a [`crate::Hit`], and only hits whose `t`
@@ -19,17 +19,22 @@
 //! *coordinates* need more than f32 precision needs f64 primitives, which octoray does not have
 //! yet.
 
+#[cfg(feature = "sphere")]
+pub mod sphere;
+#[cfg(feature = "triangle")]
+pub mod triangle;
+
 #[cfg(feature = "triangle")]
 use crate::lanes::FastLanes;
 use crate::lanes::Lanes;
-use crate::prim::Primitive;
 #[cfg(feature = "sphere")]
-use crate::ray::PackedSphere;
-use crate::ray::RayLanes;
+use crate::prim::PackedSphere;
+use crate::prim::Primitive;
+use crate::prim::RayLanes;
 
 pub use crate::hit::{barycentrics, LanesHit};
 #[cfg(feature = "triangle")]
-use crate::ray::{PackedTriangle, VertexTriangle};
+use crate::prim::{PackedTriangle, VertexTriangle};
 
 /// A ray-primitive test at lane width `L`.
 ///
@@ -57,19 +62,19 @@ pub trait Kernel<L: Lanes> {
     }
 }
 
-/// Standard tier: Möller-Trumbore with delayed division ([`crate::moller_trumbore`]).
-/// `CULL = true` ([`StandardCulled`]) skips back faces: triangles whose normal `e1 × e2` points
+/// Standard tier: Möller-Trumbore with delayed division ([`crate::kernels::triangle::moller_trumbore`]).
+/// `CULL = true` ([`MollerTrumboreCulled`]) skips back faces: triangles whose normal `e1 × e2` points
 /// along the ray (a counter-clockwise triangle seen from behind).
 #[cfg(feature = "triangle")]
 #[derive(Clone, Copy, Debug, Default)]
-pub struct Standard<const CULL: bool = false>;
+pub struct MollerTrumbore<const CULL: bool = false>;
 
 /// Standard tier with back-face culling.
 #[cfg(feature = "triangle")]
-pub type StandardCulled = Standard<true>;
+pub type MollerTrumboreCulled = MollerTrumbore<true>;
 
 /// Watertight tier: Woop, Benthin & Wald 2013 plus a conservative δt bound
-/// ([`crate::watertight`]); `CULL = true` ([`WatertightCulled`]) skips back faces.
+/// ([`crate::kernels::triangle::watertight`]); `CULL = true` ([`WatertightCulled`]) skips back faces.
 #[cfg(feature = "triangle")]
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Watertight<const CULL: bool = false>;
@@ -78,17 +83,17 @@ pub struct Watertight<const CULL: bool = false>;
 #[cfg(feature = "triangle")]
 pub type WatertightCulled = Watertight<true>;
 
-/// Fast tier: Möller-Trumbore with FMA and a refined reciprocal ([`crate::moller_trumbore_fast`]).
+/// Fast tier: Möller-Trumbore with FMA and a refined reciprocal ([`crate::kernels::triangle::moller_trumbore_fast`]).
 #[cfg(feature = "triangle")]
 #[derive(Clone, Copy, Debug, Default)]
-pub struct Fast;
+pub struct MollerTrumboreFast;
 
-/// Stable sphere (Ray Tracing Gems ch. 7, [`crate::sphere_stable`]).
+/// Stable sphere (Ray Tracing Gems ch. 7, [`crate::kernels::sphere::stable`]).
 #[cfg(feature = "sphere")]
 #[derive(Clone, Copy, Debug, Default)]
 pub struct StableSphere;
 
-/// Naive textbook sphere quadratic ([`crate::sphere_naive`]), kept so the trade is visible.
+/// Naive textbook sphere quadratic ([`crate::kernels::sphere::naive`]), kept so the trade is visible.
 #[cfg(feature = "sphere")]
 #[derive(Clone, Copy, Debug, Default)]
 pub struct NaiveSphere;
@@ -114,22 +119,22 @@ macro_rules! kernel_without_prepare {
     };
 }
 
-kernel_without_prepare!(#[cfg(feature = "triangle")] [L: Lanes, const CULL: bool] Standard<CULL>, PackedTriangle, L,
-    crate::moller_trumbore::intersect_with::<L, CULL>);
-kernel_without_prepare!(#[cfg(feature = "triangle")] [L: FastLanes] Fast, PackedTriangle, L,
-    crate::moller_trumbore_fast::intersect_lanes);
+kernel_without_prepare!(#[cfg(feature = "triangle")] [L: Lanes, const CULL: bool] MollerTrumbore<CULL>, PackedTriangle, L,
+    crate::kernels::triangle::moller_trumbore::intersect_with::<L, CULL>);
+kernel_without_prepare!(#[cfg(feature = "triangle")] [L: FastLanes] MollerTrumboreFast, PackedTriangle, L,
+    crate::kernels::triangle::moller_trumbore_fast::intersect_lanes);
 kernel_without_prepare!(#[cfg(feature = "sphere")] [L: Lanes] StableSphere, PackedSphere, L,
-    crate::sphere_stable::intersect_lanes);
+    crate::kernels::sphere::stable::intersect_lanes);
 kernel_without_prepare!(#[cfg(feature = "sphere")] [L: Lanes] NaiveSphere, PackedSphere, L,
-    crate::sphere_naive::intersect_lanes);
+    crate::kernels::sphere::naive::intersect_lanes);
 
 #[cfg(feature = "triangle")]
 impl<L: Lanes, const CULL: bool> Kernel<L> for Watertight<CULL> {
     type Prim = VertexTriangle;
-    type Pre = crate::watertight::ShearedRay<L>;
+    type Pre = crate::kernels::triangle::watertight::ShearedRay<L>;
     #[inline(always)]
     fn prepare(ray: &RayLanes<L>) -> Self::Pre {
-        crate::watertight::ShearedRay::new(ray)
+        crate::kernels::triangle::watertight::ShearedRay::new(ray)
     }
     #[inline(always)]
     fn intersect_lanes(
@@ -137,6 +142,6 @@ impl<L: Lanes, const CULL: bool> Kernel<L> for Watertight<CULL> {
         pre: &Self::Pre,
         prim: &crate::prim::VertexLanes<L>,
     ) -> LanesHit<L> {
-        crate::watertight::intersect_sheared_with::<L, CULL>(ray, pre, prim)
+        crate::kernels::triangle::watertight::intersect_sheared_with::<L, CULL>(ray, pre, prim)
     }
 }

@@ -30,10 +30,10 @@
 //!   |d| = 7e-41); hits keep the shape guarantees above. Normalise directions.
 
 use crate::hit::{t_in_range, LanesHit};
+use crate::lanes::V3;
 use crate::lanes::{LaneMask, Lanes};
 use crate::prim::{EdgeLanes, Primitive};
-use crate::ray::{PackedTriangle, RayLanes};
-use crate::vec3::V3;
+use crate::prim::{PackedTriangle, RayLanes};
 
 /// `8ε`: the multiple of `|d|₁·|e1|₁·|e2|₁` below which `det` is rounding noise.
 const DET_NOISE: f32 = 8.0 / 16_777_216.0;

@@ -1,5 +1,5 @@
 //! Naive ray-sphere: the textbook quadratic `b² − 4ac` as a lane kernel, kept so the
-//! speed-accuracy trade against [`crate::sphere_stable`] is visible.
+//! speed-accuracy trade against [`crate::kernels::sphere::stable`] is visible.
 //!
 //! # Accuracy contract (naive sphere)
 //! - Bit-identical across widths and builds (same exact operations as the other standard
@@ -11,8 +11,8 @@
 
 use crate::hit::{nearest_root_in_range, LanesHit};
 use crate::lanes::{LaneMask, Lanes};
+use crate::prim::{PackedSphere, RayLanes};
 use crate::prim::{Primitive, SphereLanes};
-use crate::ray::{PackedSphere, RayLanes};
 
 /// Tests every lane of `ray` against one sphere.
 #[inline(always)]

@@ -6,7 +6,7 @@
 //! the normal, to the side the new ray leaves towards, and to round that point away from `p`.
 
 #[cfg(feature = "triangle")]
-use crate::ray::VertexTriangle;
+use crate::prim::VertexTriangle;
 use glam::Vec3;
 
 /// `γ(n) = n·u / (1 − n·u)` for f32 (u = 2⁻²⁴).
@@ -24,7 +24,7 @@ fn gamma(n: f32) -> f32 {
 /// `|c| + r` only. The bound returned is `γ8·(|p| + |c| + r)` per component, which also covers the
 /// sphere kernels' rounding of `f·f − r²` for an origin just outside (tested: zero re-hits).
 #[cfg(feature = "sphere")]
-pub fn sphere_hit_point(ray: &crate::ray::Ray, t: f32, center: Vec3, radius: f32) -> (Vec3, Vec3) {
+pub fn sphere_hit_point(ray: &crate::prim::Ray, t: f32, center: Vec3, radius: f32) -> (Vec3, Vec3) {
     let p = ray.at(t);
     // In f64: |p − c|² of a tiny sphere (r ≲ 1e-19) underflows in f32 and would give NaN, and
     // o + t·d of a huge direction can overflow f32 before the point is projected back.

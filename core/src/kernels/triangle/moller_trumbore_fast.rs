@@ -15,10 +15,10 @@
 //!   at `t = ±0` on huge ones.
 
 use crate::hit::{t_in_range, LanesHit};
+use crate::lanes::V3;
 use crate::lanes::{FastLanes, LaneMask};
 use crate::prim::{EdgeLanes, Primitive};
-use crate::ray::{PackedTriangle, RayLanes};
-use crate::vec3::V3;
+use crate::prim::{PackedTriangle, RayLanes};
 
 /// `8ε`: the multiple of `|e1|₁·|d|₁·|e2|₁` below which `det` is rounding noise.
 const DET_NOISE: f32 = 8.0 / 16_777_216.0;

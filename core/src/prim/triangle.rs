@@ -1,0 +1,178 @@
+//! Triangle layouts: [`Triangle`] (vertices, for the textbook), [`PackedTriangle`] (what
+//! Möller-Trumbore reads), [`VertexTriangle`] (what the watertight kernel reads), and their lanes.
+
+use super::{down, field3, padded, up, Aabb, Primitive};
+use crate::lanes::{Lanes, V3};
+use glam::Vec3;
+
+/// A triangle given by its three vertices.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Triangle {
+    /// First vertex (`a1` on the sheet).
+    pub v0: Vec3,
+    /// Second vertex (`a2`).
+    pub v1: Vec3,
+    /// Third vertex (`a3`).
+    pub v2: Vec3,
+}
+
+impl Triangle {
+    /// A triangle from three vertices.
+    pub fn new(v0: Vec3, v1: Vec3, v2: Vec3) -> Self {
+        Self { v0, v1, v2 }
+    }
+}
+
+/// A triangle in exactly what the Möller-Trumbore kernel reads: `v0`, `e1 = v1 − v0`,
+/// `e2 = v2 − v0` (9 floats, 36 bytes, no normal, no index). `bytemuck` casts slices of it to and
+/// from `&[f32]`.
+///
+/// The edges are rounded once to f32 when packed, so a packed triangle's `v1`/`v2` can differ
+/// from the input by half an ulp of the edge; the kernels' contracts are stated for the packed
+/// triangle.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct PackedTriangle {
+    /// First vertex.
+    pub v0: [f32; 3],
+    /// `v1 − v0`.
+    pub e1: [f32; 3],
+    /// `v2 − v0`.
+    pub e2: [f32; 3],
+}
+
+impl PackedTriangle {
+    /// Packs three vertices.
+    pub fn new(v0: Vec3, v1: Vec3, v2: Vec3) -> Self {
+        Self {
+            v0: v0.to_array(),
+            e1: (v1 - v0).to_array(),
+            e2: (v2 - v0).to_array(),
+        }
+    }
+}
+
+impl From<Triangle> for PackedTriangle {
+    fn from(t: Triangle) -> Self {
+        Self::new(t.v0, t.v1, t.v2)
+    }
+}
+
+/// A triangle as its three vertices (36 bytes, `bytemuck`-castable): what the watertight kernel
+/// reads, because watertightness needs the shared vertices themselves, not rounded edges.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct VertexTriangle {
+    /// First vertex.
+    pub v0: [f32; 3],
+    /// Second vertex.
+    pub v1: [f32; 3],
+    /// Third vertex.
+    pub v2: [f32; 3],
+}
+
+impl VertexTriangle {
+    /// Stores three vertices.
+    pub fn new(v0: Vec3, v1: Vec3, v2: Vec3) -> Self {
+        Self {
+            v0: v0.to_array(),
+            v1: v1.to_array(),
+            v2: v2.to_array(),
+        }
+    }
+}
+
+impl From<Triangle> for VertexTriangle {
+    fn from(t: Triangle) -> Self {
+        Self::new(t.v0, t.v1, t.v2)
+    }
+}
+
+/// Box of three finite points, or `None`.
+fn points_bounds(p: [[f32; 3]; 3]) -> Option<Aabb> {
+    let b = Aabb::EMPTY.grow(p[0]).grow(p[1]).grow(p[2]);
+    b.is_finite().then_some(b)
+}
+
+/// [`PackedTriangle`] as lanes: `v0`, `e1`, `e2`.
+#[derive(Clone, Copy, Debug)]
+pub struct EdgeLanes<L> {
+    /// First vertex.
+    pub v0: V3<L>,
+    /// `v1 − v0`.
+    pub e1: V3<L>,
+    /// `v2 − v0`.
+    pub e2: V3<L>,
+}
+
+impl Primitive for PackedTriangle {
+    type Lanes<L: Lanes> = EdgeLanes<L>;
+    #[inline(always)]
+    fn splat<L: Lanes>(&self) -> EdgeLanes<L> {
+        EdgeLanes {
+            v0: V3::splat(self.v0),
+            e1: V3::splat(self.e1),
+            e2: V3::splat(self.e2),
+        }
+    }
+    #[inline(always)]
+    fn gather<L: Lanes>(prims: &[Self]) -> EdgeLanes<L> {
+        let prims = &padded(prims);
+        EdgeLanes {
+            v0: field3(prims, 0),
+            e1: field3(prims, 3),
+            e2: field3(prims, 6),
+        }
+    }
+    fn bounds(&self) -> Option<Aabb> {
+        let (v0, e1, e2) = (self.v0, self.e1, self.e2);
+        if !(v0.iter().chain(&e1).chain(&e2).all(|x| x.is_finite())) {
+            return None;
+        }
+        // v0 + e1 and v0 + e2 are exact in the kernels' algebra; their rounded sums are within
+        // half an ulp, so one ulp outward holds the exact points.
+        let a: [f32; 3] = core::array::from_fn(|k| v0[k] + e1[k]);
+        let b: [f32; 3] = core::array::from_fn(|k| v0[k] + e2[k]);
+        let mut bx = points_bounds([v0, a, b])?;
+        for k in 0..3 {
+            bx.lo[k] = down(bx.lo[k]);
+            bx.hi[k] = up(bx.hi[k]);
+        }
+        bx.is_finite().then_some(bx)
+    }
+}
+
+/// [`VertexTriangle`] as lanes: the three vertices.
+#[derive(Clone, Copy, Debug)]
+pub struct VertexLanes<L> {
+    /// First vertex.
+    pub v0: V3<L>,
+    /// Second vertex.
+    pub v1: V3<L>,
+    /// Third vertex.
+    pub v2: V3<L>,
+}
+
+impl Primitive for VertexTriangle {
+    type Lanes<L: Lanes> = VertexLanes<L>;
+    #[inline(always)]
+    fn splat<L: Lanes>(&self) -> VertexLanes<L> {
+        VertexLanes {
+            v0: V3::splat(self.v0),
+            v1: V3::splat(self.v1),
+            v2: V3::splat(self.v2),
+        }
+    }
+    #[inline(always)]
+    fn gather<L: Lanes>(prims: &[Self]) -> VertexLanes<L> {
+        let prims = &padded(prims);
+        VertexLanes {
+            v0: field3(prims, 0),
+            v1: field3(prims, 3),
+            v2: field3(prims, 6),
+        }
+    }
+    fn bounds(&self) -> Option<Aabb> {
+        points_bounds([self.v0, self.v1, self.v2])
+    }
+}

@@ -1,0 +1,108 @@
+//! What a shading step asks of a hit, for every primitive, computed only on request: the hit
+//! point, the unit geometric normal facing the ray, and conservatively offset origins for rays
+//! that leave the surface (see [`offset`]).
+//!
+//! [`Shade::surface`] is the one entry point: triangles ([`VertexTriangle`] for the watertight
+//! tier, [`PackedTriangle`] for the Möller-Trumbore tiers) and spheres ([`PackedSphere`]) answer
+//! it the same way, so a renderer shades every hit with one call.
+
+pub mod offset;
+
+use crate::hit::Hit;
+use crate::prim::Ray;
+#[cfg(feature = "sphere")]
+use crate::prim::{PackedSphere, Sphere};
+#[cfg(feature = "triangle")]
+use crate::prim::{PackedTriangle, VertexTriangle};
+use glam::Vec3;
+use offset::offset_ray_origin;
+
+/// Surface data of a hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Surface {
+    /// The hit point (from the barycentrics for triangles; projected onto the sphere for
+    /// spheres).
+    pub point: Vec3,
+    /// Componentwise error bound of `point`, as [`offset::offset_ray_origin`] takes it.
+    pub error: Vec3,
+    /// Unit geometric normal, turned to face the incoming ray (`n·d ≤ 0`); zero for a degenerate
+    /// primitive.
+    pub normal: Vec3,
+    /// Origin for rays leaving on the side the ray came from (reflection, shadow rays towards
+    /// that side).
+    pub spawn_front: Vec3,
+    /// Origin for rays continuing through the surface (refraction).
+    pub spawn_back: Vec3,
+}
+
+impl Surface {
+    /// Surface data from a hit point, its error bound and a geometric normal (any length, any
+    /// orientation): the normal is normalised and turned to face `ray`.
+    pub fn new(ray: &Ray, point: Vec3, error: Vec3, normal: Vec3) -> Self {
+        let mut n = normal.normalize_or_zero();
+        if n.dot(ray.dir) > 0.0 {
+            n = -n;
+        }
+        Self {
+            point,
+            error,
+            normal: n,
+            spawn_front: offset_ray_origin(point, error, n, n),
+            spawn_back: offset_ray_origin(point, error, n, -n),
+        }
+    }
+
+    /// The origin for a ray leaving the surface in direction `w` (either side): `spawn_front`
+    /// or `spawn_back` for `w` on the normal's side or the other.
+    pub fn spawn(&self, w: Vec3) -> Vec3 {
+        offset_ray_origin(self.point, self.error, self.normal, w)
+    }
+}
+
+/// A primitive layout that can describe the surface at a hit on it.
+pub trait Shade {
+    /// Surface data for `hit`, a hit of `ray` on `self` (its `t`, `u`, `v`; `prim` is not read).
+    fn surface(&self, ray: &Ray, hit: &Hit) -> Surface;
+}
+
+#[cfg(feature = "triangle")]
+impl Shade for VertexTriangle {
+    fn surface(&self, ray: &Ray, hit: &Hit) -> Surface {
+        let (p, err) = offset::triangle_hit_point(self, hit.u, hit.v);
+        let (v0, v1, v2) = (
+            Vec3::from(self.v0),
+            Vec3::from(self.v1),
+            Vec3::from(self.v2),
+        );
+        Surface::new(ray, p, err, (v1 - v0).cross(v2 - v0))
+    }
+}
+
+/// The triangle `v0, v0 + e1, v0 + e2` the packed form describes.
+#[cfg(feature = "triangle")]
+impl Shade for PackedTriangle {
+    fn surface(&self, ray: &Ray, hit: &Hit) -> Surface {
+        let v0 = Vec3::from(self.v0);
+        let vt = VertexTriangle::new(v0, v0 + Vec3::from(self.e1), v0 + Vec3::from(self.e2));
+        vt.surface(ray, hit)
+    }
+}
+
+/// The normal is `p − c` at the projected point. The radius is `√radius_sq` rounded to f32,
+/// within an ulp of the radius that was packed, far inside the point's error bound.
+#[cfg(feature = "sphere")]
+impl Shade for PackedSphere {
+    fn surface(&self, ray: &Ray, hit: &Hit) -> Surface {
+        let c = Vec3::from(self.center);
+        let (p, err) = offset::sphere_hit_point(ray, hit.t, c, libm::sqrtf(self.radius_sq));
+        Surface::new(ray, p, err, p - c)
+    }
+}
+
+#[cfg(feature = "sphere")]
+impl Shade for Sphere {
+    fn surface(&self, ray: &Ray, hit: &Hit) -> Surface {
+        let (p, err) = offset::sphere_hit_point(ray, hit.t, self.center, self.radius);
+        Surface::new(ray, p, err, p - self.center)
+    }
+}
