@@ -6,7 +6,7 @@
 
 use octoray::glam::Vec3;
 use octoray::textbook::{self, InsideTest, SphereOutcome, TriangleOutcome};
-use octoray::{PackedSphere, PackedTriangle, Ray, Sphere, Triangle};
+use octoray::{PackedSphere, PackedTriangle, Ray, Sphere, VertexTriangle};
 
 fn fmt(v: Vec3) -> String {
     format!("({}, {}, {})", v.x, v.y, v.z)
@@ -16,9 +16,9 @@ fn main() {
     let ray = Ray::new(Vec3::new(-4.0, -2.0, -1.0), Vec3::new(1.0, 2.0, 3.0));
     let v = Vec3::new;
     let triangles = [
-        Triangle::new(v(0.0, 6.0, 7.0), v(-3.0, 1.0, 5.0), v(-2.0, 1.0, 4.0)),
-        Triangle::new(v(-2.0, 1.0, 2.0), v(-1.0, 1.0, 1.0), v(1.0, 6.0, 4.0)),
-        Triangle::new(v(0.0, 0.0, 0.0), v(2.0, 4.0, 6.0), v(1.0, 0.0, 0.0)),
+        VertexTriangle::new(v(0.0, 6.0, 7.0), v(-3.0, 1.0, 5.0), v(-2.0, 1.0, 4.0)),
+        VertexTriangle::new(v(-2.0, 1.0, 2.0), v(-1.0, 1.0, 1.0), v(1.0, 6.0, 4.0)),
+        VertexTriangle::new(v(0.0, 0.0, 0.0), v(2.0, 4.0, 6.0), v(1.0, 0.0, 0.0)),
     ];
     let spheres = [
         Sphere::new(v(0.0, 0.0, 0.0), 10.0),
@@ -34,20 +34,17 @@ fn main() {
 
     for (i, tri) in triangles.iter().enumerate() {
         let s = textbook::triangle_steps(&ray, tri, InsideTest::Full);
+        let [a1, a2, a3] = tri.vertices();
         println!(
             "Ray-triangle problem {}: a1 = {}, a2 = {}, a3 = {}",
             i + 1,
-            fmt(tri.v0),
-            fmt(tri.v1),
-            fmt(tri.v2)
+            fmt(a1),
+            fmt(a2),
+            fmt(a3)
         );
-        println!(
-            "  a1a2 = {}, a1a3 = {}",
-            fmt(tri.v1 - tri.v0),
-            fmt(tri.v2 - tri.v0)
-        );
+        println!("  a1a2 = {}, a1a3 = {}", fmt(a2 - a1), fmt(a3 - a1));
         println!("  n = a1a2 x a1a3 = {}", fmt(s.n));
-        println!("  a1o = {}", fmt(ray.origin - tri.v0));
+        println!("  a1o = {}", fmt(ray.origin - a1));
         println!("  d . n = {}, (o - a1) . n = {}", s.d_dot_n, s.o_dot_n);
         match s.outcome {
             TriangleOutcome::Parallel => {

@@ -8,12 +8,12 @@ mod triangles {
     use octoray::packet::tiers::MollerTrumbore;
     use octoray::packet::{closest, f32x8};
     use octoray::textbook::{self, InsideTest};
-    use octoray::{PackedTriangle, Ray, Triangle};
+    use octoray::{PackedTriangle, Ray, VertexTriangle};
 
     #[test]
     fn seed_triangle_1_hits_at_t_2_everywhere() {
         let ray = Ray::new(Vec3::new(-4.0, -2.0, -1.0), Vec3::new(1.0, 2.0, 3.0));
-        let tri = Triangle::new(
+        let tri = VertexTriangle::new(
             Vec3::new(0.0, 6.0, 7.0),
             Vec3::new(-3.0, 1.0, 5.0),
             Vec3::new(-2.0, 1.0, 4.0),

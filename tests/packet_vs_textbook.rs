@@ -19,7 +19,7 @@ use glam::DVec3;
 use octoray::packet::tiers::MollerTrumbore;
 use octoray::packet::{closest, f32x8};
 use octoray::textbook::{self, InsideTest};
-use octoray::{PackedTriangle, Ray, Triangle};
+use octoray::{PackedTriangle, Ray, VertexTriangle};
 
 const MARGIN: f64 = 1e-3;
 /// t agreement. The textbook forms `t = −((o − a1)·n)/(d·n)` and the kernel `t = (s·Ng)/det` with
@@ -29,9 +29,9 @@ const MARGIN: f64 = 1e-3;
 const T_REL_TOL: f64 = 0.0;
 
 /// Exact-enough (f64) barycentrics (b0, b1, b2) of the plane hit point, and t.
-fn reference(ray: &Ray, tri: &Triangle) -> (f64, [f64; 3]) {
+fn reference(ray: &Ray, tri: &VertexTriangle) -> (f64, [f64; 3]) {
     let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
-    let (a, b, c) = (tri.v0.as_dvec3(), tri.v1.as_dvec3(), tri.v2.as_dvec3());
+    let [a, b, c] = tri.vertices().map(|v| v.as_dvec3());
     let n = (b - a).cross(c - a);
     let t = (a - o).dot(n) / d.dot(n);
     let p = o + d * t;
@@ -42,7 +42,7 @@ fn reference(ray: &Ray, tri: &Triangle) -> (f64, [f64; 3]) {
 
 /// Well-conditioned random cases (see the module doc): half aimed inside the triangle, half at
 /// barycentrics anywhere in [-0.5, 1.5].
-fn cases(seed: u64, n: usize) -> Vec<(Ray, Triangle)> {
+fn cases(seed: u64, n: usize) -> Vec<(Ray, VertexTriangle)> {
     let mut rng = Rng(seed);
     let mut out = Vec::with_capacity(n);
     while out.len() < n {
@@ -68,7 +68,7 @@ fn cases(seed: u64, n: usize) -> Vec<(Ray, Triangle)> {
         if d.normalize().dot(nrm.normalize()).abs() < 0.05 {
             continue;
         }
-        out.push((Ray::new(o, d), Triangle::new(v0, v1, v2)));
+        out.push((Ray::new(o, d), VertexTriangle::new(v0, v1, v2)));
     }
     out
 }

@@ -13,7 +13,7 @@ use octoray::query;
 use octoray::textbook::{self, InsideTest};
 use octoray::Shade;
 use octoray::{LaneMask, Lanes, RayLanes, VertexTriangle};
-use octoray::{PackedSphere, PackedTriangle, Ray, Sphere, Triangle};
+use octoray::{PackedSphere, PackedTriangle, Ray, Sphere};
 use wide::{f64x4, f64x8};
 
 /// A workload in every layout the entries read, prepared once.
@@ -120,10 +120,10 @@ fn any<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim]) -> u32 {
 }
 
 fn textbook_tris(p: &Prepared) -> u32 {
-    let tris: Vec<Triangle> =
+    let tris: Vec<VertexTriangle> =
         p.w.tris
             .iter()
-            .map(|t| Triangle::new(t[0], t[1], t[2]))
+            .map(|t| VertexTriangle::new(t[0], t[1], t[2]))
             .collect();
     let mut hits = 0;
     for r in &p.w.rays {

@@ -27,9 +27,9 @@
 //!
 //! ```
 //! # #[cfg(feature = "triangle")] {
-//! use octoray_core::{glam::Vec3, textbook, Ray, Triangle};
+//! use octoray_core::{glam::Vec3, textbook, Ray, VertexTriangle};
 //! let ray = Ray::new(Vec3::new(-4.0, -2.0, -1.0), Vec3::new(1.0, 2.0, 3.0));
-//! let tri = Triangle::new(
+//! let tri = VertexTriangle::new(
 //!     Vec3::new(0.0, 6.0, 7.0),
 //!     Vec3::new(-3.0, 1.0, 5.0),
 //!     Vec3::new(-2.0, 1.0, 4.0),
@@ -75,7 +75,7 @@ pub use lanes::{FastLanes, LaneMask, Lanes, Scalar, V3};
 #[cfg(feature = "sphere")]
 pub use prim::{PackedSphere, Sphere};
 #[cfg(feature = "triangle")]
-pub use prim::{PackedTriangle, Triangle, VertexTriangle};
+pub use prim::{PackedTriangle, VertexTriangle};
 pub use prim::{Ray, RayLanes};
 #[cfg(any(feature = "triangle", feature = "sphere"))]
 pub use shading::offset::offset_ray_origin;

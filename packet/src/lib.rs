@@ -53,7 +53,7 @@ pub use octoray_core::{glam, Hit, LaneMask, Lanes, Ray, RayLanes};
 #[cfg(feature = "sphere")]
 pub use octoray_core::{PackedSphere, Sphere};
 #[cfg(feature = "triangle")]
-pub use octoray_core::{PackedTriangle, Triangle, VertexTriangle};
+pub use octoray_core::{PackedTriangle, VertexTriangle};
 #[cfg(any(feature = "triangle", feature = "sphere"))]
 pub use octoray_core::{Shade, Surface};
 pub use wide::{f32x16, f32x4, f32x8, f64x4, f64x8};

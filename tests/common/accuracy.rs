@@ -10,7 +10,7 @@ use octoray::packet::f32x8;
 use octoray::query::closest;
 use octoray::textbook::{self, InsideTest, TextbookHit};
 use octoray::{intersect, RayLanes, VertexTriangle};
-use octoray::{Hit, PackedSphere, PackedTriangle, Ray, Sphere, Triangle};
+use octoray::{Hit, PackedSphere, PackedTriangle, Ray, Sphere};
 
 /// f32 unit roundoff.
 pub const EPS: f64 = 1.0 / 16_777_216.0;
@@ -107,10 +107,12 @@ impl TriTier {
         let packed = PackedTriangle::new(a, b, v2);
         let verts = VertexTriangle::new(a, b, v2);
         match self {
-            Self::Textbook => {
-                textbook::intersect_triangle(&c.ray, &Triangle::new(a, b, v2), InsideTest::Full)
-                    .map(textbook_hit)
-            }
+            Self::Textbook => textbook::intersect_triangle(
+                &c.ray,
+                &VertexTriangle::new(a, b, v2),
+                InsideTest::Full,
+            )
+            .map(textbook_hit),
             Self::Standard => intersect::<f32, MollerTrumbore>(&c.ray, &packed),
             Self::Watertight => intersect::<f32, Watertight>(&c.ray, &verts),
             Self::Fast => {

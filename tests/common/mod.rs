@@ -7,7 +7,7 @@ pub mod oracle;
 pub mod strategies;
 
 use octoray::glam::Vec3;
-use octoray::{Ray, Sphere, Triangle};
+use octoray::{Ray, Sphere, VertexTriangle};
 
 /// The ray every seed problem uses.
 pub fn seed_ray() -> Ray {
@@ -15,12 +15,12 @@ pub fn seed_ray() -> Ray {
 }
 
 /// The three seed triangles (problems.md, ray-triangle 1..3).
-pub fn seed_triangles() -> [Triangle; 3] {
+pub fn seed_triangles() -> [VertexTriangle; 3] {
     let v = Vec3::new;
     [
-        Triangle::new(v(0.0, 6.0, 7.0), v(-3.0, 1.0, 5.0), v(-2.0, 1.0, 4.0)),
-        Triangle::new(v(-2.0, 1.0, 2.0), v(-1.0, 1.0, 1.0), v(1.0, 6.0, 4.0)),
-        Triangle::new(v(0.0, 0.0, 0.0), v(2.0, 4.0, 6.0), v(1.0, 0.0, 0.0)),
+        VertexTriangle::new(v(0.0, 6.0, 7.0), v(-3.0, 1.0, 5.0), v(-2.0, 1.0, 4.0)),
+        VertexTriangle::new(v(-2.0, 1.0, 2.0), v(-1.0, 1.0, 1.0), v(1.0, 6.0, 4.0)),
+        VertexTriangle::new(v(0.0, 0.0, 0.0), v(2.0, 4.0, 6.0), v(1.0, 0.0, 0.0)),
     ]
 }
 

@@ -21,7 +21,7 @@ pub use ray::{Ray, RayLanes};
 #[cfg(feature = "sphere")]
 pub use sphere::{PackedSphere, Sphere, SphereLanes};
 #[cfg(feature = "triangle")]
-pub use triangle::{EdgeLanes, PackedTriangle, Triangle, VertexLanes, VertexTriangle};
+pub use triangle::{EdgeLanes, PackedTriangle, VertexLanes, VertexTriangle};
 
 use crate::lanes::{Lanes, V3};
 

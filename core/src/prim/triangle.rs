@@ -1,27 +1,10 @@
-//! Triangle layouts: [`Triangle`] (vertices, for the textbook), [`PackedTriangle`] (what
-//! Möller-Trumbore reads), [`VertexTriangle`] (what the watertight kernel reads), and their lanes.
+//! Triangle layouts, named for what they store: [`VertexTriangle`] (the three vertices: the
+//! triangle as given, what the watertight kernel and the textbook read) and [`PackedTriangle`]
+//! (`v0` and two edges: what Möller-Trumbore reads), and their lanes.
 
 use super::{down, field3, padded, up, Aabb, Primitive};
 use crate::lanes::{Lanes, V3};
 use glam::Vec3;
-
-/// A triangle given by its three vertices.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Triangle {
-    /// First vertex (`a1` on the sheet).
-    pub v0: Vec3,
-    /// Second vertex (`a2`).
-    pub v1: Vec3,
-    /// Third vertex (`a3`).
-    pub v2: Vec3,
-}
-
-impl Triangle {
-    /// A triangle from three vertices.
-    pub fn new(v0: Vec3, v1: Vec3, v2: Vec3) -> Self {
-        Self { v0, v1, v2 }
-    }
-}
 
 /// A triangle in exactly what the Möller-Trumbore kernel reads: `v0`, `e1 = v1 − v0`,
 /// `e2 = v2 − v0` (9 floats, 36 bytes, no normal, no index). `bytemuck` casts slices of it to and
@@ -52,12 +35,6 @@ impl PackedTriangle {
     }
 }
 
-impl From<Triangle> for PackedTriangle {
-    fn from(t: Triangle) -> Self {
-        Self::new(t.v0, t.v1, t.v2)
-    }
-}
-
 /// A triangle as its three vertices (36 bytes, `bytemuck`-castable): what the watertight kernel
 /// reads, because watertightness needs the shared vertices themselves, not rounded edges.
 #[repr(C)]
@@ -80,11 +57,10 @@ impl VertexTriangle {
             v2: v2.to_array(),
         }
     }
-}
 
-impl From<Triangle> for VertexTriangle {
-    fn from(t: Triangle) -> Self {
-        Self::new(t.v0, t.v1, t.v2)
+    /// The three vertices as vectors.
+    pub fn vertices(&self) -> [Vec3; 3] {
+        [self.v0, self.v1, self.v2].map(Vec3::from)
     }
 }
 
@@ -174,5 +150,12 @@ impl Primitive for VertexTriangle {
     }
     fn bounds(&self) -> Option<Aabb> {
         points_bounds([self.v0, self.v1, self.v2])
+    }
+}
+
+impl From<VertexTriangle> for PackedTriangle {
+    fn from(t: VertexTriangle) -> Self {
+        let [v0, v1, v2] = t.vertices();
+        Self::new(v0, v1, v2)
     }
 }

@@ -7,7 +7,7 @@
 //! triangles can both miss (cracks). The packet kernels and the accuracy tiers address that.
 
 use super::TextbookHit;
-use crate::prim::{Ray, Triangle};
+use crate::prim::{Ray, VertexTriangle};
 use glam::Vec3;
 
 /// How the inside-outside test compares the three edge cross products.
@@ -85,9 +85,9 @@ fn dominant_axis(n: Vec3) -> usize {
 }
 
 /// Runs the textbook test and returns all its intermediate values.
-pub fn triangle_steps(ray: &Ray, tri: &Triangle, test: InsideTest) -> TriangleSteps {
+pub fn triangle_steps(ray: &Ray, tri: &VertexTriangle, test: InsideTest) -> TriangleSteps {
     let (o, d) = (ray.origin, ray.dir);
-    let (a1, a2, a3) = (tri.v0, tri.v1, tri.v2);
+    let [a1, a2, a3] = tri.vertices();
     let nan3 = Vec3::splat(f32::NAN);
     let mut s = TriangleSteps {
         n: Vec3::NAN,
@@ -146,7 +146,11 @@ pub fn triangle_steps(ray: &Ray, tri: &Triangle, test: InsideTest) -> TriangleSt
 }
 
 /// The textbook test's answer: the hit, or `None`.
-pub fn intersect_triangle(ray: &Ray, tri: &Triangle, test: InsideTest) -> Option<TextbookHit> {
+pub fn intersect_triangle(
+    ray: &Ray,
+    tri: &VertexTriangle,
+    test: InsideTest,
+) -> Option<TextbookHit> {
     match triangle_steps(ray, tri, test).outcome {
         TriangleOutcome::Hit(h) => Some(h),
         _ => None,
