@@ -2,14 +2,13 @@
 //! edge-aimed, grazing and translated cases; spheres near and far; crack rates on closed meshes;
 //! and the extreme cases. Run: `cargo run --release --example accuracy`.
 
-#[path = "../tests/common/mod.rs"]
-mod common;
+use octoray_testkit as testkit;
 
-use common::accuracy::*;
-use common::mesh::crack_suite;
 use glam::Vec3;
 use octoray::Ray;
 use std::time::Instant;
+use testkit::accuracy::*;
+use testkit::mesh::crack_suite;
 
 fn fmt_ulps(u: u64) -> String {
     if u == u64::MAX {

@@ -3,9 +3,9 @@
 //! the t error stays within each tier's documented bound, measured relative to the problem's own
 //! scale (`TriCase::t_scale`: |Δt| ≤ K·ε·max(|t|, reach)/|cos θ|).
 #![cfg(all(feature = "triangle", feature = "sphere"))]
-mod common;
+use octoray_testkit as testkit;
 
-use common::accuracy::*;
+use testkit::accuracy::*;
 
 /// Documented bounds on |Δt| / (ε·scale) (see each kernel's rustdoc).
 fn t_bound(tier: TriTier) -> f64 {

@@ -2,14 +2,14 @@
 //! triangles, bad radii are misses in every kernel, never a panic, never a non-finite t. Each case
 //! starts from a configuration that hits, so every assertion can fail.
 #![cfg(all(feature = "triangle", feature = "sphere"))]
-mod common;
+use octoray_testkit as testkit;
 
-use common::*;
 use octoray::glam::Vec3;
 use octoray::packet::tiers::{MollerTrumbore, StableSphere};
 use octoray::packet::{self, f32x16, f32x4, f32x8, LaneMask, Lanes, RayLanes};
 use octoray::textbook::{self, InsideTest};
 use octoray::{PackedSphere, PackedTriangle, Ray, Sphere, VertexTriangle};
+use testkit::*;
 
 const BAD: [f32; 3] = [f32::NAN, f32::INFINITY, f32::NEG_INFINITY];
 

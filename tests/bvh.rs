@@ -6,10 +6,8 @@
 //! the same hit/miss, `t`, `u`, `v` bits and primitive index as `query::closest` over the
 //! slice, and the same occlusion as `query::occluded`.
 #![cfg(all(feature = "triangle", feature = "sphere", feature = "alloc"))]
-mod common;
+use octoray_testkit as testkit;
 
-use common::mesh::crack_suite_with;
-use common::Rng;
 use octoray::bvh::traverse::{
     closest, closest_packet, closest_ray, closest_t_packet, occluded, occluded_packet, occluded_ray,
 };
@@ -24,6 +22,8 @@ use octoray::query;
 use octoray::{Hit, PackedSphere, PackedTriangle, Ray, VertexTriangle};
 use octoray::{LaneMask, Lanes, RayLanes, Scalar};
 use proptest::prelude::*;
+use testkit::mesh::crack_suite_with;
+use testkit::Rng;
 use wide::f64x4;
 
 fn bits(h: Option<Hit>) -> Option<(u32, u32, u32, u32)> {

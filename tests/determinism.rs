@@ -6,16 +6,16 @@
 //! If a deliberate change to a kernel changes its results, update `STORED` with the value this
 //! test prints, and say why in the commit.
 #![cfg(all(feature = "triangle", feature = "sphere"))]
-mod common;
+use octoray_testkit as testkit;
 
-use common::accuracy::{
-    distant_sphere_cases, edge_cases, grazing_cases, near_sphere_cases, random_cases,
-};
 use octoray::kernels::{Kernel, MollerTrumbore, StableSphere, Watertight};
 use octoray::packet::f32x8;
 use octoray::query::closest;
 use octoray::{Hit, PackedSphere, PackedTriangle, Ray};
 use octoray::{RayLanes, VertexTriangle};
+use testkit::accuracy::{
+    distant_sphere_cases, edge_cases, grazing_cases, near_sphere_cases, random_cases,
+};
 
 const STORED: u64 = 0x774a_d381_4339_3119;
 

@@ -2,14 +2,14 @@
 //! may ever report a non-finite t or one outside [t_min, t_max]; beyond that each test states
 //! what each tier answers (hit with t near the exact value, or a documented miss).
 #![cfg(all(feature = "triangle", feature = "sphere"))]
-mod common;
+use octoray_testkit as testkit;
 
-use common::accuracy::{SphereCase, SphereTier, TriCase, TriTier};
-use common::{oracle, Rng};
 use glam::Vec3;
 use octoray::shading::offset::{offset_ray_origin, sphere_hit_point, triangle_hit_point};
 use octoray::{intersect, MollerTrumbore, VertexTriangle, Watertight};
 use octoray::{Hit, PackedTriangle, Ray};
+use testkit::accuracy::{SphereCase, SphereTier, TriCase, TriTier};
+use testkit::{oracle, Rng};
 
 fn v(x: f32, y: f32, z: f32) -> Vec3 {
     Vec3::new(x, y, z)
@@ -128,9 +128,9 @@ fn triangle_of_size_1e_6_at_distance_1_is_hit() {
 #[test]
 fn grazing_rays_1e_3_to_1e_7_rad_agree_with_the_oracle_outside_the_margin() {
     for (i, angle) in [1e-3f32, 1e-4, 1e-5, 1e-6, 1e-7].into_iter().enumerate() {
-        let cases = common::accuracy::grazing_cases(500 + i as u64, 500, angle);
+        let cases = testkit::accuracy::grazing_cases(500 + i as u64, 500, angle);
         for tier in TriTier::ALL {
-            let s = common::accuracy::measure_triangles(tier, &cases);
+            let s = testkit::accuracy::measure_triangles(tier, &cases);
             assert_eq!((s.wrong, s.bad_t), (0, 0), "{angle:e} rad {}", tier.name());
         }
     }

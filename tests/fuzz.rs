@@ -15,10 +15,8 @@
 //! `cargo test --test fuzz` runs the fast slice (a few seconds); the large run is
 //! `cargo test --release --test fuzz -- --ignored` (10⁷ cases per entry point).
 #![cfg(all(feature = "triangle", feature = "sphere", feature = "alloc"))]
-mod common;
+use octoray_testkit as testkit;
 
-use common::accuracy::TriCase;
-use common::{oracle, Rng};
 use octoray::bvh::traverse::{closest_packet, closest_ray as bvh_closest};
 use octoray::bvh::Bvh8;
 use octoray::glam::Vec3;
@@ -34,6 +32,8 @@ use octoray::recommend::{recommend, SceneSpec};
 use octoray::shading::offset::{offset_ray_origin, sphere_hit_point, triangle_hit_point};
 use octoray::{Hit, PackedSphere, PackedTriangle, Ray, VertexTriangle};
 use octoray::{LaneMask, Lanes, RayLanes, Scalar};
+use testkit::accuracy::TriCase;
+use testkit::{oracle, Rng};
 use wide::f64x4;
 
 const EPS: f64 = 1.0 / 16_777_216.0;

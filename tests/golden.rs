@@ -2,13 +2,13 @@
 //! integers, within a stated f32 bound where they are irrational. Intermediates are checked, not
 //! only answers, through the textbook `*_steps` API; the packet kernels must agree.
 #![cfg(all(feature = "triangle", feature = "sphere"))]
-mod common;
+use octoray_testkit as testkit;
 
-use common::*;
 use octoray::glam::Vec3;
 use octoray::packet::{self, f32x16, f32x4, f32x8, Lanes};
 use octoray::textbook::{self, InsideTest, SphereOutcome, TextbookHit, TriangleOutcome};
 use octoray::{PackedSphere, PackedTriangle};
+use testkit::*;
 
 fn v(x: f32, y: f32, z: f32) -> Vec3 {
     Vec3::new(x, y, z)

@@ -2,9 +2,8 @@
 //! and adversarial inputs and on packets of every partial length. Run on the default build and
 //! with `-C target-cpu=native` (see `.ci/run`).
 #![cfg(all(feature = "triangle", feature = "sphere"))]
-mod common;
+use octoray_testkit as testkit;
 
-use common::strategies::*;
 use octoray::glam::Vec3;
 use octoray::kernels::{Kernel, MollerTrumbore, NaiveSphere, StableSphere, Watertight};
 use octoray::packet::{f32x16, f32x4, f32x8, LaneMask, Lanes};
@@ -12,6 +11,7 @@ use octoray::{query, RayLanes, Scalar, VertexTriangle};
 use octoray::{Hit, PackedTriangle, Ray};
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
+use testkit::strategies::*;
 use wide::{f64x4, f64x8};
 
 type Bits = (u64, u64, u64);

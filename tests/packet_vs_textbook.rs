@@ -12,14 +12,14 @@
 //! ε·|o|/(edge·|cos θ|) from forming p: at most ≈ 1e-4 here. A margin of 1e-3 (ten times that)
 //! on the exact barycentrics therefore separates rounding from geometry.
 #![cfg(all(feature = "triangle", feature = "sphere"))]
-mod common;
+use octoray_testkit as testkit;
 
-use common::Rng;
 use glam::DVec3;
 use octoray::packet::tiers::MollerTrumbore;
 use octoray::packet::{closest, f32x8};
 use octoray::textbook::{self, InsideTest};
 use octoray::{PackedTriangle, Ray, VertexTriangle};
+use testkit::Rng;
 
 const MARGIN: f64 = 1e-3;
 /// t agreement. The textbook forms `t = −((o − a1)·n)/(d·n)` and the kernel `t = (s·Ng)/det` with

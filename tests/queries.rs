@@ -3,9 +3,8 @@
 //! and its spawn points do not re-hit.
 #![cfg(all(feature = "triangle", feature = "sphere"))]
 
-mod common;
+use octoray_testkit as testkit;
 
-use common::Rng;
 use octoray::glam::Vec3;
 use octoray::kernels::{
     Kernel, MollerTrumbore, MollerTrumboreCulled, StableSphere, Watertight, WatertightCulled,
@@ -15,6 +14,7 @@ use octoray::query::{closest, closest_t, occluded};
 use octoray::Shade;
 use octoray::{LaneMask, Lanes, RayLanes, Scalar};
 use octoray::{PackedSphere, PackedTriangle, Ray, VertexTriangle};
+use testkit::Rng;
 
 fn scene(seed: u64) -> (Vec<Ray>, Vec<[Vec3; 3]>) {
     let mut rng = Rng(seed);

@@ -3,9 +3,9 @@
 //! and anywhere. The watertight tier must never let a ray escape; the crack rates of the standard
 //! and fast tiers on the same rays are printed (`-- --nocapture`).
 #![cfg(all(feature = "triangle", feature = "sphere"))]
-mod common;
+use octoray_testkit as testkit;
 
-use common::mesh::crack_suite;
+use testkit::mesh::crack_suite;
 
 fn run(rays_per_mesh: usize) -> (usize, usize, usize, usize) {
     let (mut total, mut std, mut wt, mut fast) = (0, 0, 0, 0);
@@ -55,10 +55,10 @@ fn watertight_tier_has_no_cracks_million_rays() {
 
 #[test]
 fn f64_watertight_tier_has_no_cracks_and_exact_zero_signs() {
-    use common::mesh::crack_suite_with;
     use octoray::kernels::Watertight;
     use octoray::query::occluded;
     use octoray::{LaneMask, RayLanes, Scalar};
+    use testkit::mesh::crack_suite_with;
     use wide::f64x4;
     // The crack suite at f64 lanes (issue 11): zero escapes.
     let rows = crack_suite_with(2_500, |tris, rays| {

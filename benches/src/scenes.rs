@@ -7,6 +7,7 @@ use octoray::bvh::traverse::closest_ray;
 use octoray::bvh::Bvh8;
 use octoray::kernels::Watertight;
 use octoray::{Ray, VertexTriangle};
+use octoray_testkit::camera::Pinhole;
 use std::path::PathBuf;
 use std::process::Command;
 use wide::f32x8;
@@ -15,10 +16,7 @@ use wide::f32x8;
 pub struct SceneSet {
     pub name: &'static str,
     pub tris: Vec<[Vec3; 3]>,
-    pub eye: Vec3,
-    pub target: Vec3,
-    /// Vertical field of view, radians.
-    pub fov: f32,
+    pub camera: Pinhole,
 }
 
 /// Where cargo unpacked the `bvh` crate's `media/sponza.obj`.
@@ -69,9 +67,11 @@ pub fn sponza() -> Result<SceneSet, String> {
     Ok(SceneSet {
         name: "Sponza",
         tris,
-        eye: Vec3::new(-10.0, 3.0, 0.0),
-        target: Vec3::new(10.0, 5.0, 0.0),
-        fov: 70f32.to_radians(),
+        camera: Pinhole {
+            eye: Vec3::new(-10.0, 3.0, 0.0),
+            target: Vec3::new(10.0, 5.0, 0.0),
+            fov: 70f32.to_radians(),
+        },
     })
 }
 
@@ -105,25 +105,15 @@ pub fn jittered_sphere(n: u32) -> SceneSet {
     SceneSet {
         name: "jittered sphere",
         tris,
-        eye: Vec3::new(0.0, 0.3, 3.2),
-        target: Vec3::ZERO,
-        fov: 45f32.to_radians(),
+        camera: Pinhole {
+            eye: Vec3::new(0.0, 0.3, 3.2),
+            target: Vec3::ZERO,
+            fov: 45f32.to_radians(),
+        },
     }
 }
 
 impl SceneSet {
-    /// The pinhole ray through pixel (x, y) of a w×h image.
-    pub fn camera_ray(&self, x: u32, y: u32, w: u32, h: u32) -> Ray {
-        let fwd = (self.target - self.eye).normalize();
-        let right = fwd.cross(Vec3::Y).normalize();
-        let up = right.cross(fwd);
-        let half = (self.fov * 0.5).tan();
-        let aspect = w as f32 / h as f32;
-        let sx = ((x as f32 + 0.5) / w as f32 * 2.0 - 1.0) * half * aspect;
-        let sy = (1.0 - (y as f32 + 0.5) / h as f32 * 2.0) * half;
-        Ray::new(self.eye, fwd + right * sx + up * sy)
-    }
-
     /// Primary rays in tiles of `tw`×`th` pixels (consecutive rays share a tile: coherent
     /// packets of `tw·th`).
     pub fn primary_tiled(&self, w: u32, h: u32, tw: u32, th: u32) -> Vec<Ray> {
@@ -132,7 +122,7 @@ impl SceneSet {
             for tx in (0..w).step_by(tw as usize) {
                 for y in ty..(ty + th).min(h) {
                     for x in tx..(tx + tw).min(w) {
-                        out.push(self.camera_ray(x, y, w, h));
+                        out.push(self.camera.ray(x, y, w, h));
                     }
                 }
             }

@@ -12,6 +12,7 @@ use octoray::prim::Primitive;
 use octoray::recommend::{recommend, Recommendation, SceneSpec, TierChoice};
 use octoray::Lanes;
 use octoray::{Hit, PackedSphere, PackedTriangle, Ray, Shade, Sphere, VertexTriangle};
+use octoray_testkit::camera::Pinhole;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 use wide::{f64x4, f64x8};
@@ -76,8 +77,7 @@ fn hash(i: u32) -> f32 {
     (x & 0xFFFF) as f32 / 65535.0 - 0.5
 }
 
-#[path = "icosphere.rs"]
-mod icosphere;
+use octoray_testkit::icosphere;
 
 /// An icosphere of radius ~1 subdivided `levels` times, radii jittered by ±4 %: positions and
 /// indices, the way a mesh loader hands them over.
@@ -173,33 +173,23 @@ impl Scene {
         })
     }
 
+    /// The scene's pinhole camera.
+    pub fn camera(&self) -> Pinhole {
+        Pinhole {
+            eye: self.eye,
+            target: self.target,
+            fov: self.fov,
+        }
+    }
+
     /// The camera ray through the centre of pixel (x, y) of a w×h image.
     pub fn camera_ray(&self, x: u32, y: u32, w: u32, h: u32) -> Ray {
-        let fwd = (self.target - self.eye).normalize();
-        let right = fwd.cross(Vec3::Y).normalize();
-        let up = right.cross(fwd);
-        let half = (self.fov * 0.5).tan();
-        let aspect = w as f32 / h as f32;
-        let sx = ((x as f32 + 0.5) / w as f32 * 2.0 - 1.0) * half * aspect;
-        let sy = (1.0 - (y as f32 + 0.5) / h as f32 * 2.0) * half;
-        Ray::new(self.eye, fwd + right * sx + up * sy)
+        self.camera().ray(x, y, w, h)
     }
 
     /// The pixel a point projects to (for tests), if on screen.
     pub fn project(&self, p: Vec3, w: u32, h: u32) -> Option<(u32, u32)> {
-        let fwd = (self.target - self.eye).normalize();
-        let right = fwd.cross(Vec3::Y).normalize();
-        let up = right.cross(fwd);
-        let d = p - self.eye;
-        let z = d.dot(fwd);
-        let half = (self.fov * 0.5).tan();
-        let aspect = w as f32 / h as f32;
-        let sx = d.dot(right) / z / (half * aspect);
-        let sy = d.dot(up) / z / half;
-        let x = ((sx + 1.0) * 0.5 * w as f32).floor();
-        let y = ((1.0 - sy) * 0.5 * h as f32).floor();
-        (z > 0.0 && x >= 0.0 && y >= 0.0 && x < w as f32 && y < h as f32)
-            .then_some((x as u32, y as u32))
+        self.camera().project(p, w, h)
     }
 
     /// Triangles with zero area (a repeated vertex, or collinear): they can never be hit.

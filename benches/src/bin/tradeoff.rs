@@ -8,15 +8,8 @@
 //! perf or the hardware counter is unavailable (as in the VM these figures were made on), the
 //! column is ns × the nominal clock from /proc/cpuinfo and is marked "est.".
 
-#[path = "../../../tests/common/mod.rs"]
-mod common;
+use octoray_testkit as testkit;
 
-use common::accuracy::{
-    edge_cases, grazing_cases, measure_triangles_with, random_cases, translated_cases, Stats,
-    TriCase, TriTier,
-};
-use common::mesh::{escapes_by, Mesh};
-use common::Rng;
 use glam::Vec3;
 use octoray::{Hit, Ray};
 use octoray_benches::peers::TrianglePeer;
@@ -27,6 +20,12 @@ use std::fmt::Write as _;
 use std::hint::black_box;
 use std::process::Command;
 use std::time::Instant;
+use testkit::accuracy::{
+    edge_cases, grazing_cases, measure_triangles_with, random_cases, translated_cases, Stats,
+    TriCase, TriTier,
+};
+use testkit::mesh::{escapes_by, Mesh};
+use testkit::Rng;
 
 /// The workload every speed figure uses: 1024 rays × 64 triangles, ~50 % of tests hit.
 fn workload() -> Prepared {

@@ -1,9 +1,8 @@
 //! The accuracy harness shared by `tests/accuracy.rs` and `examples/accuracy.rs`: tiers, case
 //! sets, per-case error margins, and statistics against the exact oracle.
-#![allow(dead_code)]
 
-use super::oracle::{self, SphereTruth};
-use super::Rng;
+use crate::oracle::{self, SphereTruth};
+use crate::Rng;
 use glam::Vec3;
 use octoray::kernels::{MollerTrumbore, MollerTrumboreFast, NaiveSphere, StableSphere, Watertight};
 use octoray::packet::f32x8;

@@ -1,7 +1,6 @@
 //! Closed, jittered test meshes (every vertex stored once and shared) and the crack test.
-#![allow(dead_code)]
 
-use super::Rng;
+use crate::Rng;
 use glam::Vec3;
 use octoray::kernels::{MollerTrumbore, MollerTrumboreFast, Watertight};
 use octoray::packet::f32x8;
@@ -10,8 +9,7 @@ use octoray::{LaneMask, RayLanes, VertexTriangle};
 use octoray::{PackedTriangle, Ray};
 use std::collections::HashMap;
 
-#[path = "../../examples/render/icosphere.rs"]
-mod icosphere;
+use crate::icosphere;
 
 /// An indexed triangle mesh.
 pub struct Mesh {

@@ -2,9 +2,8 @@
 //! case onto one power-of-two grid, the plane normal, d·n, t and the barycentrics are ratios of
 //! big integers, computed without any rounding. t errors are measured exactly too, by counting
 //! the f32 values between a kernel's t and the exact t (no rounding in the comparison).
-#![allow(dead_code)]
 
-use super::ordered;
+use crate::ordered;
 use glam::Vec3;
 use num_bigint::BigInt;
 use num_traits::{Signed, ToPrimitive, Zero};

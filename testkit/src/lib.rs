@@ -1,7 +1,13 @@
-//! Shared test data and helpers: the seven seed problems and ulp arithmetic.
-#![allow(dead_code)]
+//! `octoray-testkit`: what octoray's tests, benches and accuracy example share (never
+//! published). The seven seed problems and ulp arithmetic (here), the exact big-integer oracle
+//! ([`oracle`]), accuracy measurements against it ([`accuracy`]), closed jittered meshes and the
+//! crack test ([`mesh`]), proptest strategies ([`strategies`]), the icosphere generator
+//! ([`icosphere`]) and the pinhole camera ([`camera`]) the demo and the scene benches use.
+#![forbid(unsafe_code)]
 
 pub mod accuracy;
+pub mod camera;
+pub mod icosphere;
 pub mod mesh;
 pub mod oracle;
 pub mod strategies;
