@@ -5,6 +5,7 @@
 #![allow(missing_docs)]
 
 pub mod peers;
+pub mod report;
 pub mod scenes;
 pub mod speed;
 pub mod workload;

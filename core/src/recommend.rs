@@ -15,7 +15,8 @@
 //!   ulps of the largest coordinate has already lost its shape in the input, and no tier can
 //!   recover it (translate the scene towards the origin).
 //! - Closed meshes that must not leak (refraction, inside/outside tests) need the watertight tier
-//!   whatever the budget: the standard tier lets 0.3–1.7 % of edge-aimed rays through.
+//!   whatever the budget: the standard tier lets 1.540 % (report: `standard, 8 lanes`, crack
+//!   rate) of the trade report's crack rays through.
 
 //!
 //! ```

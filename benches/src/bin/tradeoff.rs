@@ -13,9 +13,11 @@ use octoray_testkit as testkit;
 use glam::Vec3;
 use octoray::{Hit, Ray};
 use octoray_benches::peers::TrianglePeer;
+use octoray_benches::report::{self, Report};
 use octoray_benches::speed::{entry, Prepared};
 use octoray_benches::workload::{HitRate, Workload};
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::fmt::Write as _;
 use std::hint::black_box;
 use std::process::Command;
@@ -258,46 +260,205 @@ struct Result {
     crack: f64,
 }
 
-fn chart(results: &[Result], path: &str) -> std::result::Result<(), Box<dyn std::error::Error>> {
-    let root = SVGBackend::new(path, (900, 560)).into_drawing_area();
+/// A point of the chart, read from the report (so the chart always shows what the table says).
+struct Point {
+    name: String,
+    ns: f64,
+    p99: f64,
+    crack: f64,
+}
+
+fn points(r: &Report) -> Vec<Point> {
+    let col = "t error ulp p50 / p99 / max";
+    r.rows
+        .iter()
+        .map(|row| {
+            let name = row[0].clone();
+            let p99 = r
+                .cell(&name, col)
+                .and_then(|c| c.split('/').nth(1))
+                .and_then(|x| x.trim().parse().ok())
+                .expect("p99 cell");
+            Point {
+                ns: r.number(&name, "ns/test").expect("ns/test cell"),
+                crack: r.number(&name, "crack rate").expect("crack rate cell"),
+                p99,
+                name,
+            }
+        })
+        .collect()
+}
+
+/// Crack-rate colour: watertight (0 %), below 2 %, 2 % and above.
+fn crack_color(crack: f64) -> RGBColor {
+    if crack == 0.0 {
+        RGBColor(0, 140, 60)
+    } else if crack < 2.0 {
+        RGBColor(230, 140, 0)
+    } else {
+        RGBColor(210, 30, 30)
+    }
+}
+
+/// Ticks 1, 2, 5 × 10^k inside [lo, hi].
+fn ticks_125(lo: f64, hi: f64) -> Vec<f64> {
+    let mut out = vec![];
+    let mut k = lo.log10().floor() as i32;
+    while 10f64.powi(k) <= hi {
+        for m in [1.0, 2.0, 5.0] {
+            let v = m * 10f64.powi(k);
+            if v >= lo && v <= hi {
+                out.push(v);
+            }
+        }
+        k += 1;
+    }
+    out
+}
+
+/// The speed/accuracy chart: ns per test (log) against the t error's p99 (log). Each point is
+/// numbered and keyed to a legend that names it and gives its crack rate; colour is the crack
+/// rate, shape tells octoray (circle) from the peers (triangle); the dashed line is the Pareto
+/// front (no other point is both faster and more accurate).
+fn chart(r: &Report, path: &str) -> std::result::Result<(), Box<dyn std::error::Error>> {
+    let pts = points(r);
+    let root = SVGBackend::new(path, (1100, 640)).into_drawing_area();
     root.fill(&WHITE)?;
-    let xs = results.iter().map(|r| r.ns);
+    let (plot, legend) = root.split_horizontally(700);
     let (xmin, xmax) = (
-        xs.clone().fold(f64::INFINITY, f64::min) / 1.5,
-        xs.fold(0.0, f64::max) * 1.5,
+        pts.iter().map(|p| p.ns).fold(f64::INFINITY, f64::min) / 1.3,
+        pts.iter().map(|p| p.ns).fold(0.0, f64::max) * 1.3,
     );
-    let y = |r: &Result| r.stats.percentile(0.99) as f64 + 1.0;
-    let ymax = results.iter().map(y).fold(1.0, f64::max) * 3.0;
-    let mut c = ChartBuilder::on(&root)
+    let y = |p: &Point| p.p99 + 1.0;
+    let ymax = pts.iter().map(y).fold(1.0, f64::max) * 4.0;
+    let mut c = ChartBuilder::on(&plot)
         .caption(
-            format!("octoray: speed vs accuracy ({})", flags()),
-            ("sans-serif", 18),
+            format!("speed vs accuracy, {}", r.build()),
+            ("sans-serif", 15),
         )
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(60)
-        .build_cartesian_2d((xmin..xmax).log_scale(), (0.8..ymax).log_scale())?;
+        .margin(14)
+        .x_label_area_size(44)
+        .y_label_area_size(64)
+        .build_cartesian_2d((xmin..xmax).log_scale(), (0.5..ymax).log_scale())?;
     c.configure_mesh()
-        .x_desc("ns per ray-triangle test (log)")
-        .y_desc("t error p99 + 1, ulp (log)")
+        .disable_mesh()
+        .set_all_tick_mark_size(0)
+        .x_label_formatter(&|_| String::new())
+        .y_label_formatter(&|_| String::new())
+        .x_desc("ns per ray-triangle test (log; left is faster)")
+        .y_desc("t error p99 + 1, ulp (log; lower is more accurate)")
         .draw()?;
-    for (i, r) in results.iter().enumerate() {
-        let ours = !r.name.starts_with("peer");
-        let color = if ours { BLUE } else { RED };
-        let (px, py) = (r.ns, y(r));
-        c.draw_series(std::iter::once(Circle::new((px, py), 5, color.filled())))?;
-        // Tiers that share an accuracy sit at one height: alternate labels above and below.
-        let dy = if i % 2 == 0 { 1.35 } else { 1.0 / 1.6 };
-        let label = format!(
-            "{} ({:.1} % cracks)",
-            r.name.trim_start_matches("peer: "),
-            r.crack
-        );
+    // Our own 1-2-5 grid and labels (plotters' log axis repeats a label at decades).
+    let grid = ShapeStyle::from(&BLACK.mix(0.12)).stroke_width(1);
+    for x in ticks_125(xmin, xmax) {
+        c.draw_series(LineSeries::new([(x, 0.5), (x, ymax)], grid))?;
         c.draw_series(std::iter::once(Text::new(
-            label,
-            (px * 1.03, py * dy),
-            ("sans-serif", 11).into_font().color(&color),
+            format!(" {x}"),
+            (x, 0.5),
+            ("sans-serif", 12)
+                .into_font()
+                .color(&BLACK)
+                .pos(Pos::new(HPos::Center, VPos::Top)),
         )))?;
+    }
+    let mut yv = 1.0;
+    while yv <= ymax {
+        c.draw_series(LineSeries::new([(xmin, yv), (xmax, yv)], grid))?;
+        c.draw_series(std::iter::once(Text::new(
+            if yv >= 1e3 {
+                format!("1e{} ", yv.log10().round())
+            } else {
+                format!("{yv} ")
+            },
+            (xmin, yv),
+            ("sans-serif", 12)
+                .into_font()
+                .color(&BLACK)
+                .pos(Pos::new(HPos::Right, VPos::Center)),
+        )))?;
+        yv *= 10.0;
+    }
+    // Pareto front over (ns, p99): sorted by speed, keep each point more accurate than all faster ones.
+    let mut order: Vec<usize> = (0..pts.len()).collect();
+    order.sort_by(|&a, &b| pts[a].ns.total_cmp(&pts[b].ns));
+    let mut front = vec![];
+    let mut best = f64::INFINITY;
+    for &i in &order {
+        if pts[i].p99 < best {
+            best = pts[i].p99;
+            front.push((pts[i].ns, y(&pts[i])));
+        }
+    }
+    c.draw_series(DashedLineSeries::new(
+        front,
+        6,
+        4,
+        ShapeStyle::from(&BLACK.mix(0.6)).stroke_width(1),
+    ))?;
+    // Points share heights (tiers of one accuracy): alternate the numbers above and below.
+    for (k, &i) in order.iter().enumerate() {
+        let p = &pts[i];
+        let col = crack_color(p.crack);
+        let at = (p.ns, y(p));
+        if p.name.starts_with("peer") {
+            c.draw_series(std::iter::once(TriangleMarker::new(at, 7, col.filled())))?;
+        } else {
+            c.draw_series(std::iter::once(Circle::new(at, 6, col.filled())))?;
+        }
+        let vpos = if k % 2 == 0 { VPos::Bottom } else { VPos::Top };
+        let off = if k % 2 == 0 { -8 } else { 8 };
+        c.draw_series(std::iter::once(
+            EmptyElement::at(at)
+                + Text::new(
+                    format!("{}", i + 1),
+                    (0, off),
+                    ("sans-serif", 12)
+                        .into_font()
+                        .color(&BLACK)
+                        .pos(Pos::new(HPos::Center, vpos)),
+                ),
+        ))?;
+    }
+    // Legend: number, marker, name and crack rate, in report order.
+    let font = ("sans-serif", 13).into_font();
+    legend.draw(&Text::new(
+        "octoray (●) and peers (▲); colour: crack rate",
+        (8, 22),
+        font.clone(),
+    ))?;
+    let key = [
+        (crack_color(0.0), "0 % (watertight)"),
+        (crack_color(1.0), "under 2 %"),
+        (crack_color(5.0), "2 % or more"),
+    ];
+    for (j, (col, text)) in key.iter().enumerate() {
+        let x = 16 + 130 * j as i32;
+        legend.draw(&Circle::new((x, 46), 5, col.filled()))?;
+        legend.draw(&Text::new(
+            *text,
+            (x + 10, 40),
+            ("sans-serif", 12).into_font(),
+        ))?;
+    }
+    legend.draw(&Text::new(
+        "- - - Pareto front (ns, t error)",
+        (8, 66),
+        ("sans-serif", 12).into_font(),
+    ))?;
+    for (i, p) in pts.iter().enumerate() {
+        let yy = 96 + 26 * i as i32;
+        let col = crack_color(p.crack);
+        if p.name.starts_with("peer") {
+            legend.draw(&TriangleMarker::new((40, yy + 7), 6, col.filled()))?;
+        } else {
+            legend.draw(&Circle::new((40, yy + 7), 5, col.filled()))?;
+        }
+        legend.draw(&Text::new(format!("{:>2}", i + 1), (8, yy), font.clone()))?;
+        legend.draw(&Text::new(
+            format!("{} — {:.2} ns, {:.2} % cracks", p.name, p.ns, p.crack),
+            (54, yy),
+            ("sans-serif", 12).into_font(),
+        ))?;
     }
     root.present()?;
     Ok(())
@@ -314,6 +475,13 @@ fn main() {
             hits += u64::from((e.run)(black_box(&p)));
         }
         println!("{hits}");
+        return;
+    }
+    // Redraw the chart from the report as it stands, without measuring anything.
+    if args.len() == 2 && args[1] == "--chart" {
+        let r = Report::load().expect("benches/tradeoff.md");
+        let path = report::path().with_extension("svg");
+        chart(&r, path.to_str().expect("utf-8 path")).expect("chart");
         return;
     }
     let p = workload();
@@ -370,7 +538,8 @@ fn main() {
     }
     let dir = concat!(env!("CARGO_MANIFEST_DIR"));
     std::fs::write(format!("{dir}/tradeoff.md"), &md).expect("write tradeoff.md");
-    if let Err(e) = chart(&results, &format!("{dir}/tradeoff.svg")) {
+    let report = Report::parse(&md).expect("the report just written parses");
+    if let Err(e) = chart(&report, &format!("{dir}/tradeoff.svg")) {
         eprintln!("chart not written: {e}");
     }
     // The README carries the same table between its markers.

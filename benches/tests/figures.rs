@@ -1,0 +1,93 @@
+//! Measured per-test figures live in one place, `benches/tradeoff.md` (written by the report
+//! binary). This test fails when a copy or a quote of it drifts: the README's table must be the
+//! report's text, every `` <value> (report: `<row>`, <column>) `` quote in the README, the crate
+//! READMEs and the library's rustdoc must equal the report's cell, and the chart must carry every
+//! row of the report.
+
+use octoray_benches::report::{self, prose, quotes, Report};
+use std::path::{Path, PathBuf};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for e in std::fs::read_dir(dir).expect("read_dir") {
+        let p = e.expect("entry").path();
+        if p.is_dir() {
+            rust_files(&p, out);
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
+}
+
+#[test]
+fn readme_table_is_the_report() {
+    let md = std::fs::read_to_string(report::path()).expect("tradeoff.md");
+    let readme = std::fs::read_to_string(root().join("README.md")).expect("README");
+    let (start, end) = ("<!-- tradeoff:start -->\n", "<!-- tradeoff:end -->");
+    let a = readme.find(start).expect("README has the start marker") + start.len();
+    let b = readme.find(end).expect("README has the end marker");
+    assert_eq!(
+        &readme[a..b],
+        md,
+        "README's table differs from benches/tradeoff.md: rerun the report"
+    );
+}
+
+#[test]
+fn quoted_figures_equal_the_report() {
+    let r = Report::load().expect("benches/tradeoff.md parses");
+    let mut files = vec![
+        root().join("README.md"),
+        root().join("core/README.md"),
+        root().join("packet/README.md"),
+    ];
+    for dir in ["core/src", "packet/src", "src"] {
+        rust_files(&root().join(dir), &mut files);
+    }
+    let mut checked = 0;
+    let mut bad = vec![];
+    for f in &files {
+        let text = std::fs::read_to_string(f).expect("read");
+        for q in quotes(&prose(&text)) {
+            match r.cell(&q.row, &q.column) {
+                Some(cell) if cell == q.value => checked += 1,
+                Some(cell) => bad.push(format!(
+                    "{}: quotes {} for `{}`, {}; the report says {cell}",
+                    f.display(),
+                    q.value,
+                    q.row,
+                    q.column
+                )),
+                None => bad.push(format!(
+                    "{}: quotes `{}`, {}, which the report does not have",
+                    f.display(),
+                    q.row,
+                    q.column
+                )),
+            }
+        }
+    }
+    assert!(
+        bad.is_empty(),
+        "figures drifted from the report:\n{}",
+        bad.join("\n")
+    );
+    // The README's accuracy table and the kernels' contracts quote the report's crack rates.
+    assert!(checked >= 6, "only {checked} quotes found");
+}
+
+#[test]
+fn chart_shows_every_row_of_the_report() {
+    let r = Report::load().expect("benches/tradeoff.md parses");
+    let svg = std::fs::read_to_string(root().join("benches/tradeoff.svg")).expect("svg");
+    for row in &r.rows {
+        let name = row[0].trim_start_matches("peer: ");
+        assert!(
+            svg.contains(name),
+            "the chart has no `{name}`: redraw it (`--chart`)"
+        );
+    }
+}
