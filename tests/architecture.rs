@@ -1,0 +1,125 @@
+//! The tree is the architecture: `octoray-core`'s modules are layers, and each imports only from
+//! the layers below it (README, "Architecture"). This test reads the sources and fails on an
+//! import that goes up or sideways, so a cycle cannot creep back in.
+
+use std::path::{Path, PathBuf};
+
+/// `octoray-core`'s top-level modules, lowest layer first; modules on one line share a layer
+/// and may not import each other.
+const LAYERS: &[&[&str]] = &[
+    &["lanes"],
+    &["prim"],
+    &["hit"],
+    &["kernels"],
+    &["query"],
+    &["bvh"],
+    &["shading", "ingest", "recommend", "textbook"],
+];
+
+fn layer(module: &str) -> usize {
+    LAYERS
+        .iter()
+        .position(|l| l.contains(&module))
+        .unwrap_or_else(|| panic!("module `{module}` is in no layer: add it to LAYERS"))
+}
+
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for e in std::fs::read_dir(dir).expect("read_dir") {
+        let p = e.expect("entry").path();
+        if p.is_dir() {
+            rust_files(&p, out);
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
+}
+
+/// Every `crate::<module>` named in code (not in comments) of `src`.
+fn crate_refs(src: &str) -> Vec<String> {
+    let mut out = vec![];
+    for line in src.lines() {
+        let code = line.split("//").next().unwrap_or("");
+        let mut rest = code;
+        while let Some(i) = rest.find("crate::") {
+            let after = &rest[i + "crate::".len()..];
+            let name: String = after
+                .chars()
+                .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                .collect();
+            // `use crate::{a, b}` names several modules.
+            if after.starts_with('{') {
+                let group = after[1..].split('}').next().unwrap_or("");
+                for item in group.split(',') {
+                    let m: String = item
+                        .trim()
+                        .chars()
+                        .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                        .collect();
+                    if !m.is_empty() {
+                        out.push(m);
+                    }
+                }
+            } else if !name.is_empty() {
+                out.push(name);
+            }
+            rest = after;
+        }
+    }
+    out
+}
+
+#[test]
+fn core_modules_import_only_from_layers_below() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("core/src");
+    let mut files = vec![];
+    rust_files(&src, &mut files);
+    let mut checked = 0;
+    let mut bad = vec![];
+    for f in &files {
+        let rel = f.strip_prefix(&src).expect("under core/src");
+        let first = rel.components().next().expect("component");
+        let module = first
+            .as_os_str()
+            .to_str()
+            .expect("utf-8")
+            .trim_end_matches(".rs");
+        if module == "lib" {
+            continue; // the crate root re-exports every layer
+        }
+        let from = layer(module);
+        let text = std::fs::read_to_string(f).expect("read");
+        for target in crate_refs(&text) {
+            if target == module {
+                continue;
+            }
+            checked += 1;
+            // Items re-exported at the crate root (`crate::Hit`) name no module: look up where
+            // they live is not needed, since the root only re-exports; forbid them instead.
+            let Some(to) = LAYERS.iter().position(|l| l.contains(&target.as_str())) else {
+                bad.push(format!("{}: `crate::{target}` is not a layer module (import from the module, not the root)", rel.display()));
+                continue;
+            };
+            if to >= from {
+                bad.push(format!(
+                    "{}: `{module}` (layer {from}) imports `{target}` (layer {to})",
+                    rel.display()
+                ));
+            }
+        }
+    }
+    assert!(
+        bad.is_empty(),
+        "imports against the layering:\n{}",
+        bad.join("\n")
+    );
+    assert!(checked > 50, "only {checked} imports seen");
+}
+
+/// The parser sees through groups and skips comments.
+#[test]
+fn crate_refs_reads_groups_and_skips_comments() {
+    let refs = crate_refs(
+        "use crate::{lanes::V3, prim::Ray};\n// crate::bvh\nlet x = crate::hit::Hit; // crate::query",
+    );
+    assert_eq!(refs, ["lanes", "prim", "hit"]);
+}
