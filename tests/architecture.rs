@@ -47,8 +47,8 @@ fn crate_refs(src: &str) -> Vec<String> {
                 .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
                 .collect();
             // `use crate::{a, b}` names several modules.
-            if after.starts_with('{') {
-                let group = after[1..].split('}').next().unwrap_or("");
+            if let Some(group) = after.strip_prefix('{') {
+                let group = group.split('}').next().unwrap_or("");
                 for item in group.split(',') {
                     let m: String = item
                         .trim()
