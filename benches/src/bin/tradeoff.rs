@@ -477,6 +477,16 @@ fn main() {
         println!("{hits}");
         return;
     }
+    // Speed only (no accuracy, no files written): ns/test of every speed entry whose name
+    // contains the filter, best of 7, for quick A/B comparisons of a kernel change.
+    if args.len() >= 2 && args[1] == "--speed" {
+        let p = workload();
+        let filter = args.get(2).map(String::as_str).unwrap_or("");
+        for e in octoray_benches::speed::entries().iter().filter(|e| e.name.contains(filter)) {
+            println!("{:<40} {:7.3} ns/test", e.name, ns_per_test(e.name, &p));
+        }
+        return;
+    }
     // Redraw the chart from the report as it stands, without measuring anything.
     if args.len() == 2 && args[1] == "--chart" {
         let r = Report::load().expect("benches/tradeoff.md");
