@@ -56,11 +56,11 @@ fn fast_tier_zero_area_triangle_is_a_miss() {
     // Found by the BVH equality proptest: det of a collinear triangle is rounding noise, and
     // the 1997 form reported a hit with u = v = 0 far from the segment.
     let v = Vec3::new;
-    let tri = PackedTriangle {
-        v0: [3.103771e-5, 8.0877e-6, -7.3246883e-6],
-        e1: [-1.0795788e-5, 2.421395e-6, -4.754189e-6],
-        e2: [-5.3978947e-6, 1.2106975e-6, -2.3770945e-6],
-    };
+    let tri = PackedTriangle::from_edges(
+        [3.103771e-5, 8.0877e-6, -7.3246883e-6],
+        [-1.0795788e-5, 2.421395e-6, -4.754189e-6],
+        [-5.3978947e-6, 1.2106975e-6, -2.3770945e-6],
+    );
     let ray = Ray::with_range(
         v(-1.8581011e-5, 1.0074473e-7, 1.5549276e-5),
         v(4.961872e-5, 7.986955e-6, -2.2873965e-5),

@@ -34,7 +34,7 @@ fn indexed_mesh_round_trips_to_the_same_triangles() {
     }
     // The stores are Pod: they cast to flat floats and back.
     let floats: &[f32] = bytemuck::cast_slice(&packed);
-    assert_eq!(floats.len(), 18);
+    assert_eq!(floats.len(), 24);
     assert_eq!(
         bytemuck::cast_slice::<f32, PackedTriangle>(floats),
         &packed[..]

@@ -12,7 +12,7 @@ static ALLOC: Cap<System> = Cap::new(System, usize::MAX);
 
 #[test]
 fn bad_meshes_are_rejected_before_any_output_is_allocated() {
-    // 30 000 001 indices (120 MB): the output would be 10 M triangles × 36 bytes = 360 MB.
+    // 30 000 001 indices (120 MB): the output would be 10 M triangles × 48 bytes = 480 MB.
     let positions = vec![[0.0f32; 3]; 4];
     let mut indices = vec![0u32; 30_000_001];
     // Allow 64 MB beyond what is allocated now: far less than the output.

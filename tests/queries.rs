@@ -194,3 +194,31 @@ fn sphere_surface_data_faces_the_ray_and_spawns_without_rehits() {
     }
     assert!(checked > 1000, "{checked}");
 }
+
+/// `PackedTriangle` stores `ng = e1 × e2` as the f32 kernels would compute it; the f32 tiers read
+/// it, the f64 tier recomputes it from the widened edges (an f32-rounded normal would cost it its
+/// accuracy). Shown by planting a wrong normal: f32 answers change, f64 answers do not.
+#[test]
+fn stored_normal_is_read_at_f32_and_recomputed_at_f64() {
+    let (rays, tris) = scene(5);
+    let (mut f32_changed, mut hits) = (0, 0);
+    for t in &tris {
+        let good = PackedTriangle::new(t[0], t[1], t[2]);
+        let e = |a: [f32; 3]| Vec3::from(a);
+        assert_eq!(Vec3::from(good.ng), e(good.e1).cross(e(good.e2)));
+        let mut bad = good;
+        bad.ng = (Vec3::from(good.ng) * 1.5 + Vec3::X).to_array();
+        for r in &rays {
+            let f64_good = octoray::intersect::<f64, MollerTrumbore>(r, &good);
+            assert_eq!(f64_good, octoray::intersect::<f64, MollerTrumbore>(r, &bad));
+            let f32_good = octoray::intersect::<f32, MollerTrumbore>(r, &good);
+            hits += usize::from(f32_good.is_some());
+            f32_changed +=
+                usize::from(f32_good != octoray::intersect::<f32, MollerTrumbore>(r, &bad));
+        }
+    }
+    assert!(
+        hits > 20 && f32_changed > 10,
+        "hits {hits}, changed {f32_changed}"
+    );
+}

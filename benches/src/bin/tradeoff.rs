@@ -482,7 +482,10 @@ fn main() {
     if args.len() >= 2 && args[1] == "--speed" {
         let p = workload();
         let filter = args.get(2).map(String::as_str).unwrap_or("");
-        for e in octoray_benches::speed::entries().iter().filter(|e| e.name.contains(filter)) {
+        for e in octoray_benches::speed::entries()
+            .iter()
+            .filter(|e| e.name.contains(filter))
+        {
             println!("{:<40} {:7.3} ns/test", e.name, ns_per_test(e.name, &p));
         }
         return;

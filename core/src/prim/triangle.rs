@@ -3,16 +3,18 @@
 //! (`v0` and two edges: what Möller-Trumbore reads), and their lanes.
 
 use super::{down, field3, padded, up, Aabb, Primitive};
-use crate::lanes::{Lanes, V3};
+use crate::lanes::{Lanes, Scalar, V3};
 use glam::Vec3;
 
 /// A triangle in exactly what the Möller-Trumbore kernel reads: `v0`, `e1 = v1 − v0`,
-/// `e2 = v2 − v0` (9 floats, 36 bytes, no normal, no index). `bytemuck` casts slices of it to and
-/// from `&[f32]`.
+/// `e2 = v2 − v0` and the unnormalised normal `ng = e1 × e2` (12 floats, 48 bytes, no index;
+/// Embree's `TriangleM` layout). `bytemuck` casts slices of it to and from `&[f32]`.
 ///
 /// The edges are rounded once to f32 when packed, so a packed triangle's `v1`/`v2` can differ
 /// from the input by half an ulp of the edge; the kernels' contracts are stated for the packed
-/// triangle.
+/// triangle. `ng` is the f32 cross product of the stored edges in the kernels' operation order,
+/// so reading it gives the same bits as computing it per test (which the f32 kernels no longer
+/// do: 9 of their ~43 FP operations); the f64 tier recomputes it from the widened edges.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct PackedTriangle {
@@ -22,15 +24,24 @@ pub struct PackedTriangle {
     pub e1: [f32; 3],
     /// `v2 − v0`.
     pub e2: [f32; 3],
+    /// `e1 × e2`, as [`crate::lanes::V3::cross`] computes it at `f32`.
+    pub ng: [f32; 3],
 }
 
 impl PackedTriangle {
     /// Packs three vertices.
     pub fn new(v0: Vec3, v1: Vec3, v2: Vec3) -> Self {
+        Self::from_edges(v0.to_array(), (v1 - v0).to_array(), (v2 - v0).to_array())
+    }
+
+    /// A packed triangle from `v0` and the edges as stored (the normal is computed from them).
+    pub fn from_edges(v0: [f32; 3], e1: [f32; 3], e2: [f32; 3]) -> Self {
+        let ng = V3::<f32>::new(e1[0], e1[1], e1[2]).cross(V3::new(e2[0], e2[1], e2[2]));
         Self {
-            v0: v0.to_array(),
-            e1: (v1 - v0).to_array(),
-            e2: (v2 - v0).to_array(),
+            v0,
+            e1,
+            e2,
+            ng: [ng.x, ng.y, ng.z],
         }
     }
 }
@@ -70,7 +81,7 @@ fn points_bounds(p: [[f32; 3]; 3]) -> Option<Aabb> {
     b.is_finite().then_some(b)
 }
 
-/// [`PackedTriangle`] as lanes: `v0`, `e1`, `e2`.
+/// [`PackedTriangle`] as lanes: `v0`, `e1`, `e2`, `ng`.
 #[derive(Clone, Copy, Debug)]
 pub struct EdgeLanes<L> {
     /// First vertex.
@@ -79,25 +90,42 @@ pub struct EdgeLanes<L> {
     pub e1: V3<L>,
     /// `v2 − v0`.
     pub e2: V3<L>,
+    /// `e1 × e2`: the stored f32 normal at f32 widths; at f64 widths recomputed from the widened
+    /// edges (the f32-rounded one would cost the f64 tier its accuracy).
+    pub ng: V3<L>,
+}
+
+/// The normal lanes: the stored one at f32 widths, `e1 × e2` recomputed at wider scalars.
+#[inline(always)]
+fn normal_lanes<L: Lanes>(stored: V3<L>, e1: V3<L>, e2: V3<L>) -> V3<L> {
+    if <L::Scalar as Scalar>::UNIT_ROUNDOFF < f32::EPSILON as f64 / 2.0 {
+        e1.cross(e2)
+    } else {
+        stored
+    }
 }
 
 impl Primitive for PackedTriangle {
     type Lanes<L: Lanes> = EdgeLanes<L>;
     #[inline(always)]
     fn splat<L: Lanes>(&self) -> EdgeLanes<L> {
+        let (e1, e2) = (V3::splat(self.e1), V3::splat(self.e2));
         EdgeLanes {
             v0: V3::splat(self.v0),
-            e1: V3::splat(self.e1),
-            e2: V3::splat(self.e2),
+            e1,
+            e2,
+            ng: normal_lanes(V3::splat(self.ng), e1, e2),
         }
     }
     #[inline(always)]
     fn gather<L: Lanes>(prims: &[Self]) -> EdgeLanes<L> {
         let prims = &padded(prims);
+        let (e1, e2) = (field3(prims, 3), field3(prims, 6));
         EdgeLanes {
             v0: field3(prims, 0),
-            e1: field3(prims, 3),
-            e2: field3(prims, 6),
+            e1,
+            e2,
+            ng: normal_lanes(field3(prims, 9), e1, e2),
         }
     }
     fn bounds(&self) -> Option<Aabb> {

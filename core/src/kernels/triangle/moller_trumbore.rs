@@ -52,13 +52,13 @@ pub fn intersect_with<L: Lanes, const CULL: bool>(
     tri: &EdgeLanes<L>,
 ) -> LanesHit<L> {
     let zero = L::zero();
-    let (v0, e1, e2) = (tri.v0, tri.e1, tri.e2);
+    let (v0, e1, e2, ng) = (tri.v0, tri.e1, tri.e2, tri.ng);
 
     // o + t·d = v0 + u·e1 + v·e2, i.e. [e1 e2 −d]·(u, v, t) = s with s = o − v0. Cramer's rule
-    // with det = e1·(d × e2) = −d·Ng, Ng = e1 × e2, and r = s × d gives
+    // with det = e1·(d × e2) = −d·Ng, Ng = e1 × e2 (stored), and r = s × d gives
     //   u = (r·e2)/det,  v = −(r·e1)/det,  t = (s·Ng)/det.
+    // Ng is read from the layout (the same bits as computing it here at f32).
     let s = ray.origin - v0;
-    let ng = e1.cross(e2);
     let r = s.cross(ray.dir);
     let det = -ray.dir.dot(ng);
     let u_num = r.dot(e2);
