@@ -214,3 +214,105 @@ fn crack_meshes<R>(
     }
     rows
 }
+
+impl Mesh {
+    /// Every vertex `p` moved to `offset + p·scale` (componentwise; each vertex rounded once and
+    /// still shared, so the mesh stays closed).
+    pub fn stretched(mut self, scale: Vec3, offset: Vec3) -> Self {
+        for v in &mut self.verts {
+            *v = offset + *v * scale;
+        }
+        self
+    }
+
+    /// A closed tube: `n` long sides around the x axis of radius `r` from `x = 0` to `len`, each
+    /// side one pair of long thin triangles (aspect ≈ `len·n/(2π·r)`), capped by fans around
+    /// a centre vertex at each end; then moved to `offset`.
+    pub fn tube(n: u32, r: f32, len: f32, offset: Vec3) -> Self {
+        let mut verts = vec![offset, offset + Vec3::new(len, 0.0, 0.0)];
+        for end in [0.0, len] {
+            for k in 0..n {
+                let a = core::f32::consts::TAU * k as f32 / n as f32;
+                verts.push(offset + Vec3::new(end, r * a.cos(), r * a.sin()));
+            }
+        }
+        let ring = |end: u32, k: u32| 2 + end * n + k % n;
+        let mut tris = vec![];
+        for k in 0..n {
+            let (a0, a1, b0, b1) = (ring(0, k), ring(0, k + 1), ring(1, k), ring(1, k + 1));
+            tris.push([a0, b0, b1]);
+            tris.push([a0, b1, a1]);
+            tris.push([0, a1, a0]);
+            tris.push([1, b0, b1]);
+        }
+        Self { verts, tris }
+    }
+
+    /// The largest ratio of longest edge to smallest height over the mesh's triangles.
+    pub fn max_aspect(&self) -> f32 {
+        self.triangles()
+            .iter()
+            .map(|t| {
+                let e = [t[1] - t[0], t[2] - t[1], t[0] - t[2]];
+                let longest = e.iter().map(|x| x.length()).fold(0.0, f32::max);
+                let area2 = e[0].cross(-e[2]).length();
+                longest * longest / area2
+            })
+            .fold(0.0, f32::max)
+    }
+}
+
+/// Closed meshes of long, thin triangles (issue 11's families): an icosphere stretched 1000:1
+/// along x, at the origin and offset to about 1e3 (like the reproducer's mesh); one stretched
+/// 300:1 along z; a cube grid stretched 1000:1 along y and offset; a 48-sided tube 2000 long
+/// of radius 1 (aspect ≈ 2·10⁴), offset. `rays_per_mesh` rays from inside each (origins within
+/// a tenth of the smallest dimension of the centre), a quarter each aimed at vertices, at edge
+/// points, at interior points and anywhere. Each row: (name, triangles, max aspect, mesh, rays).
+pub fn thin_crack_meshes(rays_per_mesh: usize) -> Vec<(String, Mesh, Vec<Ray>)> {
+    let mut out = vec![];
+    let mut rng = Rng(4242);
+    let reproducer = Vec3::new(1108.6238, 699.8606, 1299.9575);
+    let families: Vec<(&str, Mesh, Vec3, f32)> = vec![
+        (
+            "icosphere 1000:1 (x)",
+            Mesh::icosphere(3, 0.05, 1.0, Vec3::ZERO, &mut rng)
+                .stretched(Vec3::new(1000.0, 1.0, 1.0), Vec3::ZERO),
+            Vec3::ZERO,
+            0.1,
+        ),
+        (
+            "icosphere 1000:1 (x) at ~1e3",
+            Mesh::icosphere(3, 0.05, 1.0, Vec3::ZERO, &mut rng)
+                .stretched(Vec3::new(1000.0, 1.0, 1.0), reproducer),
+            reproducer,
+            0.1,
+        ),
+        (
+            "icosphere 300:1 (z) at ~1e3",
+            Mesh::icosphere(3, 0.05, 1.0, Vec3::ZERO, &mut rng)
+                .stretched(Vec3::new(1.0, 1.0, 300.0), Vec3::new(-700.0, 1000.0, 20.0)),
+            Vec3::new(-700.0, 1000.0, 20.0),
+            0.1,
+        ),
+        (
+            "cube grid 1000:1 (y) at ~1e3",
+            Mesh::cube_grid(6, 0.15, 1.0, Vec3::ZERO, &mut rng).stretched(
+                Vec3::new(1.0, 1000.0, 1.0),
+                Vec3::new(1000.0, -500.0, 250.0),
+            ),
+            Vec3::new(1000.0, -500.0, 250.0),
+            0.1,
+        ),
+        (
+            "tube 48 sides, 2000 long",
+            Mesh::tube(48, 1.0, 2000.0, Vec3::new(-300.0, 700.0, 1300.0)),
+            Vec3::new(700.0, 700.0, 1300.0),
+            0.1,
+        ),
+    ];
+    for (name, mesh, center, spread) in families {
+        let rays = mesh.rays_from_inside(center, spread, rays_per_mesh, &mut rng);
+        out.push((name.to_string(), mesh, rays));
+    }
+    out
+}
