@@ -11,7 +11,6 @@ use testkit::accuracy::*;
 fn t_bound(tier: TriTier) -> f64 {
     match tier {
         TriTier::Textbook | TriTier::Standard | TriTier::Watertight => 8.0,
-        TriTier::Fast => 32.0,
         TriTier::F64 | TriTier::F64Watertight => 2.0,
     }
 }

@@ -6,7 +6,7 @@
 //!
 //! - no panic (contract panics are tested elsewhere: these cases respect every contract);
 //! - a reported hit has finite `t ∈ [t_min, t_max]`, finite `u, v ≥ 0` and `u + v ≤ 1 + 2⁻²⁰`;
-//! - lane by lane, packets equal the scalar twin on the exact tiers (everything but fast);
+//! - lane by lane, packets equal the scalar twin on every tier;
 //! - no triangle hit where the exact big-integer oracle says miss, beyond the tier's documented
 //!   margin (barycentric band `64·ε·condition`, or `t` outside the range by less than its error
 //!   bound); degenerate cases (for the oracle: no plane crossing) are never hits;
@@ -22,8 +22,8 @@ use octoray::bvh::Bvh8;
 use octoray::glam::Vec3;
 use octoray::ingest;
 use octoray::kernels::{
-    Kernel, MollerTrumbore, MollerTrumboreCulled, MollerTrumboreFast, NaiveSphere, StableSphere,
-    Watertight, WatertightCulled,
+    Kernel, MollerTrumbore, MollerTrumboreCulled, NaiveSphere, StableSphere, Watertight,
+    WatertightCulled,
 };
 use octoray::packet::{f32x16, f32x4, f32x8};
 use octoray::prim::Primitive;
@@ -341,13 +341,6 @@ fn run_case(rng: &mut Rng, others: &[Ray]) {
     ));
     tier::<f32, f32x16, Watertight, _>(&ray, others, &verts, true, "watertight x16");
     tier::<f32, f32x4, WatertightCulled, _>(&ray, others, &verts, true, "watertight culled x4");
-    let fast8 = tier::<f32, f32x8, MollerTrumboreFast, _>(&ray, others, &packed, false, "fast x8");
-    // The fast tier's scalar twin uses an exact reciprocal; its packets are checked on their own.
-    let pf = closest::<f32x8, MollerTrumboreFast>(&RayLanes::load(&[ray]), &[packed]).lane(0);
-    hits.push((fast8, true, "fast scalar"));
-    hits.push((pf, true, "fast x8"));
-    let pf16 = closest::<f32x16, MollerTrumboreFast>(&RayLanes::load(&[ray]), &[packed]).lane(0);
-    hits.push((pf16, true, "fast x16"));
     hits.push((
         tier::<f64, f64x4, MollerTrumbore, _>(&ray, others, &packed, true, "f64 standard"),
         true,

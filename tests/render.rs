@@ -35,7 +35,7 @@ fn known_pixels_are_hit_missed_and_shadowed_as_the_geometry_dictates() {
     for (tier, lanes) in [
         (TierArg::Standard, 8),
         (TierArg::Watertight, 16),
-        (TierArg::Fast, 4),
+        (TierArg::Standard, 4),
         (TierArg::F64, 4),
     ] {
         let img = render(&s, tier, lanes, W, H, &|_| {}).unwrap();

@@ -1,41 +1,38 @@
 //! Watertightness: rays from inside closed, jittered meshes (an icosphere and a cube grid),
 //! centred at 0, 1e2, 1e4 and 1e6, aimed exactly at vertices, at edge points, at interior points
 //! and anywhere. The watertight tier must never let a ray escape; the crack rates of the standard
-//! and fast tiers on the same rays are printed (`-- --nocapture`).
+//! tier on the same rays are printed (`-- --nocapture`).
 #![cfg(all(feature = "triangle", feature = "sphere"))]
 use octoray_testkit as testkit;
 
 use testkit::mesh::crack_suite;
 
-fn run(rays_per_mesh: usize) -> (usize, usize, usize, usize) {
-    let (mut total, mut std, mut wt, mut fast) = (0, 0, 0, 0);
+fn run(rays_per_mesh: usize) -> (usize, usize, usize) {
+    let (mut total, mut std, mut wt) = (0, 0, 0);
     for r in crack_suite(rays_per_mesh) {
         let e = &r.escapes;
         println!(
-            "{:>9} at {:>7e}: {} triangles, {} rays: escapes standard {} ({:.3} %), fast {} ({:.3} %), watertight {}",
+            "{:>9} at {:>7e}: {} triangles, {} rays: escapes standard {} ({:.3} %), watertight {}",
             r.mesh,
             r.center,
             r.triangles,
             r.rays,
             e.standard,
             100.0 * e.standard as f64 / r.rays as f64,
-            e.fast,
-            100.0 * e.fast as f64 / r.rays as f64,
             e.watertight
         );
         total += r.rays;
         std += e.standard;
         wt += e.watertight;
-        fast += e.fast;
     }
-    (total, std, wt, fast)
+    (total, std, wt)
 }
 
 #[test]
 fn watertight_tier_has_no_cracks() {
     // 8 meshes × 12 500 rays = 10⁵ rays.
-    let (total, std, wt, fast) = run(12_500);
-    println!("total {total} rays: standard {std} escapes, fast {fast}, watertight {wt}");
+    let (total, std, wt) = run(12_500);
+    println!("total {total} rays: standard {std} escapes, watertight {wt}");
     assert_eq!(total, 100_000);
     assert_eq!(wt, 0, "the watertight tier let {wt} rays escape");
     // The same rays do find the cracks of the non-watertight tiers: the test has teeth.
@@ -48,7 +45,7 @@ fn watertight_tier_has_no_cracks() {
 #[test]
 #[ignore = "10⁶ rays: run with --release -- --ignored"]
 fn watertight_tier_has_no_cracks_million_rays() {
-    let (total, _, wt, _) = run(125_000);
+    let (total, _, wt) = run(125_000);
     assert_eq!(total, 1_000_000);
     assert_eq!(wt, 0);
 }
@@ -85,7 +82,7 @@ fn f64_watertight_tier_has_no_cracks_and_exact_zero_signs() {
 /// Issue 11's families (`testkit::mesh::thin_crack_meshes`): closed meshes of long thin triangles (aspect up to ~10⁴), stretched
 /// 300:1 to 1000:1 and offset to ~1e3, 2×10⁴ rays from inside each aimed at vertices, edges,
 /// interiors and anywhere (10⁵ in all). The watertight tier lets none escape, by brute force
-/// and through the BVH; the standard and fast tiers' escapes are printed.
+/// and through the BVH; the standard tier's escapes are printed.
 #[test]
 fn watertight_tier_has_no_cracks_on_thin_triangles() {
     let (total, wt, std) = thin(20_000);
@@ -122,12 +119,11 @@ fn thin(rays_per_mesh: usize) -> (usize, usize, usize) {
         bvh_occluded::<f32x8, Watertight>(bvh.as_ref(), &rays, &mut blocked);
         let through_bvh = blocked.iter().filter(|b| !**b).count();
         println!(
-            "{name}: {} triangles, max aspect {:.0}, {} rays: escapes standard {}, fast {}, watertight {} (BVH {through_bvh})",
+            "{name}: {} triangles, max aspect {:.0}, {} rays: escapes standard {}, watertight {} (BVH {through_bvh})",
             mesh.tris.len(),
             mesh.max_aspect(),
             rays.len(),
             e.standard,
-            e.fast,
             e.watertight
         );
         assert!(mesh.max_aspect() > 100.0, "{name} is not thin");

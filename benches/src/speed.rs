@@ -5,8 +5,7 @@ use crate::peers;
 use crate::workload::Workload;
 use glam::Vec3A;
 use octoray::kernels::{
-    Kernel, MollerTrumbore, MollerTrumboreCulled, MollerTrumboreFast, NaiveSphere, StableSphere,
-    Watertight,
+    Kernel, MollerTrumbore, MollerTrumboreCulled, NaiveSphere, StableSphere, Watertight,
 };
 use octoray::packet::{f32x16, f32x4, f32x8};
 use octoray::query;
@@ -215,18 +214,6 @@ pub fn entries() -> Vec<Entry> {
             Watertight,
         >(
             &p.w.rays, &p.vertex
-        )),
-        e!("fast x8", Triangle, Closest, true, |p| closest::<
-            f32x8,
-            MollerTrumboreFast,
-        >(
-            &p.w.rays, &p.packed
-        )),
-        e!("fast x16", Triangle, Closest, true, |p| closest::<
-            f32x16,
-            MollerTrumboreFast,
-        >(
-            &p.w.rays, &p.packed
         )),
         e!("f64 x1", Triangle, Closest, true, |p| closest::<
             f64,

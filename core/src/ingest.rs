@@ -127,7 +127,7 @@ pub fn check_mesh(positions: &[[f32; 3]], indices: &[u32]) -> Result<(), IngestE
     for_each_triangle(positions, indices, indices.len() / 3, |_, _, _, _| {})
 }
 
-/// Packs an indexed mesh for the standard and fast tiers (`v0, e1, e2`), one entry per index
+/// Packs an indexed mesh for the Möller-Trumbore tiers (`v0, e1, e2, ng`), one entry per index
 /// triple. On error the entries before the first bad triangle have been written: treat `out` as
 /// unspecified.
 #[cfg(feature = "triangle")]

@@ -8,10 +8,10 @@
 //! - [`hit`]: what a test answers ([`Hit`], [`LanesHit`]) and the range checks.
 //! - [`kernels`]: one file per primitive × algorithm —
 //!   [`kernels::triangle::moller_trumbore`] (standard tier), [`kernels::triangle::watertight`],
-//!   [`kernels::triangle::moller_trumbore_fast`] (fast tier), [`kernels::sphere::stable`],
+//!   [`kernels::sphere::stable`],
 //!   [`kernels::sphere::naive`] — each the single generic body of its kernel, and the tier types
 //!   over them ([`Kernel`]). At `L = f32` a body is the *scalar twin* of the packet kernel, bit
-//!   for bit (except the fast tier, whose contract is an error bound); at `f64`/`f64x4`/`f64x8`
+//!   for bit; at `f64`/`f64x4`/`f64x8`
 //!   it is the f64 tier.
 //! - [`query`]: closest hit, closest `t` and occlusion of a packet over a slice; [`bvh`]: the
 //!   8-wide BVH over any primitive slice (build under `alloc`, traversal under `wide`).
@@ -66,12 +66,10 @@ pub use glam;
 pub use hit::{Hit, LanesHit};
 pub use kernels::Kernel;
 #[cfg(feature = "triangle")]
-pub use kernels::{
-    MollerTrumbore, MollerTrumboreCulled, MollerTrumboreFast, Watertight, WatertightCulled,
-};
+pub use kernels::{MollerTrumbore, MollerTrumboreCulled, Watertight, WatertightCulled};
 #[cfg(feature = "sphere")]
 pub use kernels::{NaiveSphere, StableSphere};
-pub use lanes::{FastLanes, LaneMask, Lanes, Scalar, V3};
+pub use lanes::{LaneMask, Lanes, Scalar, V3};
 #[cfg(feature = "sphere")]
 pub use prim::{PackedSphere, Sphere};
 #[cfg(feature = "triangle")]

@@ -4,7 +4,7 @@
 //!
 //! Run: `cargo run --release --example render` (then open `render.png`).
 //! Options: `--size WxH` (640x400), `--output PATH` (render.png), `--tier auto|standard|
-//! watertight|fast|f64` (auto), `--lanes 4|8|16` (8), `--obj PATH` (replaces the icosphere).
+//! watertight|f64|watertight-f64` (auto), `--lanes 4|8|16` (8), `--obj PATH` (replaces the icosphere).
 //! Triangles are traced through an 8-wide BVH (built once, timed and reported); the three spheres
 //! by brute force.
 

@@ -5,7 +5,7 @@
 use octoray::bvh::{BuildStats, Bvh8};
 use octoray::glam::{DVec3, Vec3};
 use octoray::ingest;
-use octoray::kernels::{Kernel, MollerTrumbore, MollerTrumboreFast, StableSphere, Watertight};
+use octoray::kernels::{Kernel, MollerTrumbore, StableSphere, Watertight};
 use octoray::packet::{self, scene as bvh};
 use octoray::packet::{f32x16, f32x4, f32x8};
 use octoray::prim::Primitive;
@@ -23,7 +23,6 @@ pub enum TierArg {
     Auto,
     Standard,
     Watertight,
-    Fast,
     F64,
     WatertightF64,
 }
@@ -34,7 +33,6 @@ impl TierArg {
             "auto" => Self::Auto,
             "standard" => Self::Standard,
             "watertight" => Self::Watertight,
-            "fast" => Self::Fast,
             "f64" => Self::F64,
             "watertight-f64" => Self::WatertightF64,
             _ => return None,
@@ -45,7 +43,6 @@ impl TierArg {
             Self::Auto => "auto",
             Self::Standard => "standard",
             Self::Watertight => "watertight",
-            Self::Fast => "fast",
             Self::F64 => "f64",
             Self::WatertightF64 => "watertight-f64",
         }
@@ -459,15 +456,6 @@ pub fn render(
         }
         (TierArg::Watertight, 16) => {
             render_with::<f32x16, Watertight>(scene, &prims, &prims.verts, w, h, progress)
-        }
-        (TierArg::Fast, 4) => {
-            render_with::<f32x4, MollerTrumboreFast>(scene, &prims, &prims.packed, w, h, progress)
-        }
-        (TierArg::Fast, 8) => {
-            render_with::<f32x8, MollerTrumboreFast>(scene, &prims, &prims.packed, w, h, progress)
-        }
-        (TierArg::Fast, 16) => {
-            render_with::<f32x16, MollerTrumboreFast>(scene, &prims, &prims.packed, w, h, progress)
         }
         (TierArg::F64, 4) => {
             render_with::<f64x4, MollerTrumbore>(scene, &prims, &prims.packed, w, h, progress)

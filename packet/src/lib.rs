@@ -4,10 +4,9 @@
 //! - Widths: [`f32x4`], [`f32x8`], [`f32x16`] for the f32 tiers, [`f64x4`], [`f64x8`] for the f64
 //!   tier (re-exported, so you never need a matching `wide` version yourself).
 //! - Tiers ([`tiers`]): [`MollerTrumbore`](tiers::MollerTrumbore) (the standard tier),
-//!   [`Watertight`](tiers::Watertight), [`MollerTrumboreFast`](tiers::MollerTrumboreFast) (the
-//!   fast tier), the culling variants, [`StableSphere`](tiers::StableSphere) and
-//!   [`NaiveSphere`](tiers::NaiveSphere); at an f64 width any of them but the fast tier is the
-//!   f64 tier.
+//!   [`Watertight`](tiers::Watertight), the culling variants,
+//!   [`StableSphere`](tiers::StableSphere) and [`NaiveSphere`](tiers::NaiveSphere); at an f64
+//!   width any of them is the f64 tier.
 //! - One vocabulary: `closest` (nearest hit with barycentrics and primitive index), `closest_t`
 //!   (nearest `t` only), `occluded` (any hit in range); the module or suffix says what they run
 //!   over:
@@ -20,7 +19,7 @@
 //!     `scene::*_ray` (one ray).
 //!
 //! Every lane's answer is bit-identical to the scalar twin (`octoray_core::query` at `L = f32`),
-//! on every build, for every tier but the fast one (whose contract is an error bound).
+//! on every build, for every tier.
 //!
 //! `wide` picks its instructions at compile time: build with `-C target-cpu=native` (or at least
 //! `-C target-feature=+avx`) for one AVX register per `f32x8`, `+avx512f` for one zmm per
@@ -63,7 +62,7 @@ pub mod tiers {
     pub use octoray_core::kernels::Kernel;
     #[cfg(feature = "triangle")]
     pub use octoray_core::kernels::{
-        MollerTrumbore, MollerTrumboreCulled, MollerTrumboreFast, Watertight, WatertightCulled,
+        MollerTrumbore, MollerTrumboreCulled, Watertight, WatertightCulled,
     };
     #[cfg(feature = "sphere")]
     pub use octoray_core::kernels::{NaiveSphere, StableSphere};

@@ -4,11 +4,9 @@
 use crate::oracle::{self, SphereTruth};
 use crate::Rng;
 use glam::Vec3;
-use octoray::kernels::{MollerTrumbore, MollerTrumboreFast, NaiveSphere, StableSphere, Watertight};
-use octoray::packet::f32x8;
-use octoray::query::closest;
+use octoray::kernels::{MollerTrumbore, NaiveSphere, StableSphere, Watertight};
 use octoray::textbook::{self, InsideTest, TextbookHit};
-use octoray::{intersect, RayLanes, VertexTriangle};
+use octoray::{intersect, VertexTriangle};
 use octoray::{Hit, PackedSphere, PackedTriangle, Ray, Sphere};
 
 /// f32 unit roundoff.
@@ -69,17 +67,15 @@ pub enum TriTier {
     Textbook,
     Standard,
     Watertight,
-    Fast,
     F64,
     F64Watertight,
 }
 
 impl TriTier {
-    pub const ALL: [TriTier; 6] = [
+    pub const ALL: [TriTier; 5] = [
         Self::Textbook,
         Self::Standard,
         Self::Watertight,
-        Self::Fast,
         Self::F64,
         Self::F64Watertight,
     ];
@@ -89,7 +85,6 @@ impl TriTier {
             Self::Textbook => "textbook (scalar)",
             Self::Standard => "standard (MT)",
             Self::Watertight => "watertight",
-            Self::Fast => "fast (8 lanes)",
             Self::F64 => "f64 (MT)",
             Self::F64Watertight => "f64 watertight",
         }
@@ -97,7 +92,7 @@ impl TriTier {
 
     /// Whether the tier reads the packed (v0, e1, e2) form; else the vertices.
     pub fn packed(self) -> bool {
-        matches!(self, Self::Standard | Self::Fast | Self::F64)
+        matches!(self, Self::Standard | Self::F64)
     }
 
     /// The tier's answer for one case.
@@ -114,9 +109,6 @@ impl TriTier {
             .map(textbook_hit),
             Self::Standard => intersect::<f32, MollerTrumbore>(&c.ray, &packed),
             Self::Watertight => intersect::<f32, Watertight>(&c.ray, &verts),
-            Self::Fast => {
-                closest::<f32x8, MollerTrumboreFast>(&RayLanes::load(&[c.ray]), &[packed]).lane(0)
-            }
             Self::F64 => intersect::<f64, MollerTrumbore>(&c.ray, &packed),
             Self::F64Watertight => intersect::<f64, Watertight>(&c.ray, &verts),
         }

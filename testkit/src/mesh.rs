@@ -2,7 +2,7 @@
 
 use crate::Rng;
 use glam::Vec3;
-use octoray::kernels::{MollerTrumbore, MollerTrumboreFast, Watertight};
+use octoray::kernels::{MollerTrumbore, Watertight};
 use octoray::packet::f32x8;
 use octoray::query::occluded;
 use octoray::{LaneMask, RayLanes, VertexTriangle};
@@ -134,7 +134,6 @@ pub fn escapes_by(
 pub struct Escapes {
     pub standard: usize,
     pub watertight: usize,
-    pub fast: usize,
 }
 
 fn escapes_with<K: octoray::Kernel<f32x8>>(rays: &[Ray], prims: &[K::Prim]) -> usize {
@@ -153,7 +152,6 @@ pub fn escapes(mesh: &Mesh, rays: &[Ray]) -> Escapes {
     Escapes {
         standard: escapes_with::<MollerTrumbore>(rays, &packed),
         watertight: escapes_with::<Watertight>(rays, &verts),
-        fast: escapes_with::<MollerTrumboreFast>(rays, &packed),
     }
 }
 

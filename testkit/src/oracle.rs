@@ -200,7 +200,7 @@ pub fn triangle(ray: &Ray, v: [Vec3; 3]) -> TriangleTruth {
 
 /// The exact answer for the triangle a [`octoray::PackedTriangle`] describes: `v0`, `v0 + e1`,
 /// `v0 + e2` with the f32-rounded edges `e1 = v1 − v0`, `e2 = v2 − v0` (sums exact): what the
-/// standard and fast tiers read.
+/// Möller-Trumbore tiers read.
 pub fn triangle_packed(ray: &Ray, v: [Vec3; 3]) -> TriangleTruth {
     triangle_impl(ray, [v[0], v[1] - v[0], v[2] - v[0]], true)
 }

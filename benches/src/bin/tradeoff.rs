@@ -90,16 +90,6 @@ fn rows() -> Vec<Row> {
             accuracy: Ours(TriTier::Watertight),
         },
         Row {
-            name: "fast, 8 lanes",
-            entry: "fast x8",
-            accuracy: Ours(TriTier::Fast),
-        },
-        Row {
-            name: "fast, 16 lanes",
-            entry: "fast x16",
-            accuracy: Ours(TriTier::Fast),
-        },
-        Row {
             name: "f64, 4 lanes",
             entry: "f64 x4",
             accuracy: Ours(TriTier::F64),

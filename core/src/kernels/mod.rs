@@ -5,8 +5,7 @@
 //! |---|---|---|---|
 //! | standard | [`MollerTrumbore`] | [`PackedTriangle`] | [`crate::kernels::triangle::moller_trumbore`] |
 //! | watertight | [`Watertight`] | [`VertexTriangle`] | [`crate::kernels::triangle::watertight`] |
-//! | fast | [`MollerTrumboreFast`] | [`PackedTriangle`] | [`crate::kernels::triangle::moller_trumbore_fast`] |
-//! | f64 | the standard, watertight and sphere kernels at `L = f64`, `f64x4`, `f64x8` (not the fast tier: it exists only at f32 widths) | same | same math, f64 rounding |
+//! | f64 | the standard, watertight and sphere kernels at `L = f64`, `f64x4`, `f64x8`  | same | same math, f64 rounding |
 //! | sphere stable | [`StableSphere`] | [`PackedSphere`] | [`crate::kernels::sphere::stable`] |
 //! | sphere naive | [`NaiveSphere`] | [`PackedSphere`] | [`crate::kernels::sphere::naive`] |
 //!
@@ -24,8 +23,6 @@ pub mod sphere;
 #[cfg(feature = "triangle")]
 pub mod triangle;
 
-#[cfg(feature = "triangle")]
-use crate::lanes::FastLanes;
 use crate::lanes::Lanes;
 #[cfg(feature = "sphere")]
 use crate::prim::PackedSphere;
@@ -83,11 +80,6 @@ pub struct Watertight<const CULL: bool = false>;
 #[cfg(feature = "triangle")]
 pub type WatertightCulled = Watertight<true>;
 
-/// Fast tier: Möller-Trumbore with FMA and a refined reciprocal ([`crate::kernels::triangle::moller_trumbore_fast`]).
-#[cfg(feature = "triangle")]
-#[derive(Clone, Copy, Debug, Default)]
-pub struct MollerTrumboreFast;
-
 /// Stable sphere (Ray Tracing Gems ch. 7, [`crate::kernels::sphere::stable`]).
 #[cfg(feature = "sphere")]
 #[derive(Clone, Copy, Debug, Default)]
@@ -121,8 +113,6 @@ macro_rules! kernel_without_prepare {
 
 kernel_without_prepare!(#[cfg(feature = "triangle")] [L: Lanes, const CULL: bool] MollerTrumbore<CULL>, PackedTriangle, L,
     crate::kernels::triangle::moller_trumbore::intersect_with::<L, CULL>);
-kernel_without_prepare!(#[cfg(feature = "triangle")] [L: FastLanes] MollerTrumboreFast, PackedTriangle, L,
-    crate::kernels::triangle::moller_trumbore_fast::intersect_lanes);
 kernel_without_prepare!(#[cfg(feature = "sphere")] [L: Lanes] StableSphere, PackedSphere, L,
     crate::kernels::sphere::stable::intersect_lanes);
 kernel_without_prepare!(#[cfg(feature = "sphere")] [L: Lanes] NaiveSphere, PackedSphere, L,

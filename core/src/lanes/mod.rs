@@ -223,28 +223,6 @@ pub trait Lanes:
     }
 }
 
-/// The two operations only the fast tier may use, because their results depend on the build:
-/// `mul_add` is one fused rounding on FMA builds (wide with `fma`, aarch64) and two roundings
-/// elsewhere; `recip_refined` is `wide`'s ~12-bit reciprocal estimate on x86 refined by one
-/// Newton step (≈ 22 bits), an exact division elsewhere and for the `f32` scalar form.
-pub trait FastLanes: Lanes {
-    /// `self·a + b`, fused where the build has FMA.
-    fn mul_add(self, a: Self, b: Self) -> Self;
-    /// `1/self`, approximately (see the trait doc).
-    fn recip_refined(self) -> Self;
-}
-
-impl FastLanes for f32 {
-    #[inline(always)]
-    fn mul_add(self, a: Self, b: Self) -> Self {
-        self * a + b
-    }
-    #[inline(always)]
-    fn recip_refined(self) -> Self {
-        1.0 / self
-    }
-}
-
 /// Implements [`Lanes`] for a plain scalar: one lane, `bool` masks.
 macro_rules! impl_scalar_lanes {
     ($t:ident, $sqrt:path) => {

@@ -1,33 +1,11 @@
-//! [`Lanes`], [`LaneMask`] and [`FastLanes`] for the `wide` types (feature `wide`).
+//! [`Lanes`] and [`LaneMask`] for the `wide` types (feature `wide`).
 //!
 //! They live in this crate, not in `octoray-packet`, because of the orphan rule: an impl of a
 //! trait for a type must sit in the crate of the trait or of the type, and here the trait is
 //! ours and the types are `wide`'s. `octoray-packet` turns the feature on.
 
-use super::{FastLanes, LaneMask, Lanes, Scalar};
+use super::{LaneMask, Lanes, Scalar};
 use ::wide::{f32x16, f32x4, f32x8, f64x4, f64x8, u32x16, u32x4, u32x8, u64x4, u64x8};
-
-/// Implements [`FastLanes`] for a `wide` f32 type.
-macro_rules! impl_fast_lanes {
-    ($f:ident) => {
-        impl FastLanes for $f {
-            #[inline(always)]
-            fn mul_add(self, a: Self, b: Self) -> Self {
-                $f::mul_add(self, a, b)
-            }
-            #[inline(always)]
-            fn recip_refined(self) -> Self {
-                // One Newton-Raphson step on the estimate r: r' = r·(2 − x·r).
-                let r = self.recip();
-                r * ($f::splat(2.0) - self * r)
-            }
-        }
-    };
-}
-
-impl_fast_lanes!(f32x4);
-impl_fast_lanes!(f32x8);
-impl_fast_lanes!(f32x16);
 
 /// Implements [`LaneMask`] and [`Lanes`] for one `wide` float type; the mask is the float type
 /// itself (all-ones or all-zeros per lane), the index type the unsigned vector of the same width
