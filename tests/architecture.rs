@@ -2,7 +2,8 @@
 //! the layers below it (README, "Architecture"). This test reads the sources and fails on an
 //! import that goes up or sideways, so a cycle cannot creep back in.
 
-use std::path::{Path, PathBuf};
+use octoray_testkit::rust_files;
+use std::path::Path;
 
 /// `octoray-core`'s top-level modules, lowest layer first; modules on one line share a layer
 /// and may not import each other.
@@ -21,17 +22,6 @@ fn layer(module: &str) -> usize {
         .iter()
         .position(|l| l.contains(&module))
         .unwrap_or_else(|| panic!("module `{module}` is in no layer: add it to LAYERS"))
-}
-
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    for e in std::fs::read_dir(dir).expect("read_dir") {
-        let p = e.expect("entry").path();
-        if p.is_dir() {
-            rust_files(&p, out);
-        } else if p.extension().is_some_and(|x| x == "rs") {
-            out.push(p);
-        }
-    }
 }
 
 /// Every `crate::<module>` named in code (not in comments) of `src`.
@@ -71,8 +61,7 @@ fn crate_refs(src: &str) -> Vec<String> {
 #[test]
 fn core_modules_import_only_from_layers_below() {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("core/src");
-    let mut files = vec![];
-    rust_files(&src, &mut files);
+    let files = rust_files(&src);
     let mut checked = 0;
     let mut bad = vec![];
     for f in &files {

@@ -132,7 +132,7 @@ fn surface_data_faces_the_ray_and_spawns_without_rehits() {
             for (s, hit) in standard.into_iter().chain(watertight) {
                 assert!(s.normal.dot(r.dir) <= 0.0 && (s.normal.length() - 1.0).abs() < 1e-5);
                 assert!((s.point - r.at(hit.t)).length() < 1e-4);
-                for (origin, dir) in [(s.spawn_front, s.normal), (s.spawn_back, -s.normal)] {
+                for (origin, dir) in [(s.spawn_front(), s.normal), (s.spawn_back(), -s.normal)] {
                     let spawn = Ray::new(origin, dir);
                     assert_eq!(
                         octoray::intersect::<f32, MollerTrumbore>(&spawn, &packed),
@@ -180,14 +180,14 @@ fn sphere_surface_data_faces_the_ray_and_spawns_without_rehits() {
                     "{s:?}"
                 );
                 assert!((s.point - ray.at(hit.t)).length() <= 1e-4 * radius, "{s:?}");
-                let out = Ray::new(s.spawn_front, s.normal);
+                let out = Ray::new(s.spawn_front(), s.normal);
                 assert_eq!(octoray::intersect::<f32, StableSphere>(&out, &packed), None);
-                let inward = Ray::new(s.spawn_back, -s.normal);
+                let inward = Ray::new(s.spawn_back(), -s.normal);
                 let far = octoray::intersect::<f32, StableSphere>(&inward, &packed)
                     .expect("an inward ray meets the far side");
                 assert!((far.t * s.normal.length() - 2.0 * radius).abs() <= 1e-3 * radius);
-                assert_eq!(s.spawn(s.normal), s.spawn_front);
-                assert_eq!(s.spawn(-s.normal), s.spawn_back);
+                assert_eq!(s.spawn(s.normal), s.spawn_front());
+                assert_eq!(s.spawn(-s.normal), s.spawn_back());
                 checked += 1;
             }
         }

@@ -5,21 +5,11 @@
 //! row of the report.
 
 use octoray_benches::report::{self, prose, quotes, Report};
+use octoray_testkit::rust_files;
 use std::path::{Path, PathBuf};
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    for e in std::fs::read_dir(dir).expect("read_dir") {
-        let p = e.expect("entry").path();
-        if p.is_dir() {
-            rust_files(&p, out);
-        } else if p.extension().is_some_and(|x| x == "rs") {
-            out.push(p);
-        }
-    }
 }
 
 #[test]
@@ -45,7 +35,7 @@ fn quoted_figures_equal_the_report() {
         root().join("packet/README.md"),
     ];
     for dir in ["core/src", "packet/src", "src"] {
-        rust_files(&root().join(dir), &mut files);
+        files.extend(rust_files(&root().join(dir)));
     }
     let mut checked = 0;
     let mut bad = vec![];

@@ -90,3 +90,17 @@ impl Rng {
         Vec3::new(self.range(-h, h), self.range(-h, h), self.range(-h, h))
     }
 }
+
+/// Every `.rs` file under `dir`, recursively (for tests that read the sources).
+pub fn rust_files(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+    let mut out = vec![];
+    for e in std::fs::read_dir(dir).expect("read_dir") {
+        let p = e.expect("entry").path();
+        if p.is_dir() {
+            out.extend(rust_files(&p));
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
+    out
+}

@@ -265,7 +265,7 @@ impl Mesh {
 /// 300:1 along z; a cube grid stretched 1000:1 along y and offset; a 48-sided tube 2000 long
 /// of radius 1 (aspect ≈ 2·10⁴), offset. `rays_per_mesh` rays from inside each (origins within
 /// a tenth of the smallest dimension of the centre), a quarter each aimed at vertices, at edge
-/// points, at interior points and anywhere. Each row: (name, triangles, max aspect, mesh, rays).
+/// points, at interior points and anywhere. Each row: (name, mesh, rays).
 pub fn thin_crack_meshes(rays_per_mesh: usize) -> Vec<(String, Mesh, Vec<Ray>)> {
     let mut out = vec![];
     let mut rng = Rng(4242);

@@ -28,11 +28,6 @@ pub struct Surface {
     /// Unit geometric normal, turned to face the incoming ray (`n·d ≤ 0`); zero for a degenerate
     /// primitive.
     pub normal: Vec3,
-    /// Origin for rays leaving on the side the ray came from (reflection, shadow rays towards
-    /// that side).
-    pub spawn_front: Vec3,
-    /// Origin for rays continuing through the surface (refraction).
-    pub spawn_back: Vec3,
 }
 
 impl Surface {
@@ -47,15 +42,25 @@ impl Surface {
             point,
             error,
             normal: n,
-            spawn_front: offset_ray_origin(point, error, n, n),
-            spawn_back: offset_ray_origin(point, error, n, -n),
         }
     }
 
-    /// The origin for a ray leaving the surface in direction `w` (either side): `spawn_front`
-    /// or `spawn_back` for `w` on the normal's side or the other.
+    /// The origin for a ray leaving the surface in direction `w`, on `w`'s side of it
+    /// ([`offset::offset_ray_origin`]); computed on request, so a shader pays only for the
+    /// origins it spawns.
     pub fn spawn(&self, w: Vec3) -> Vec3 {
         offset_ray_origin(self.point, self.error, self.normal, w)
+    }
+
+    /// Origin for rays leaving on the side the ray came from (reflection, shadow rays towards
+    /// that side).
+    pub fn spawn_front(&self) -> Vec3 {
+        self.spawn(self.normal)
+    }
+
+    /// Origin for rays continuing through the surface (refraction).
+    pub fn spawn_back(&self) -> Vec3 {
+        self.spawn(-self.normal)
     }
 }
 
@@ -93,9 +98,7 @@ impl Shade for PackedTriangle {
 #[cfg(feature = "sphere")]
 impl Shade for PackedSphere {
     fn surface(&self, ray: &Ray, hit: &Hit) -> Surface {
-        let c = Vec3::from(self.center);
-        let (p, err) = offset::sphere_hit_point(ray, hit.t, c, libm::sqrtf(self.radius_sq));
-        Surface::new(ray, p, err, p - c)
+        Sphere::new(Vec3::from(self.center), libm::sqrtf(self.radius_sq)).surface(ray, hit)
     }
 }
 
