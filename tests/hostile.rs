@@ -72,7 +72,7 @@ fn zero_area_triangle_is_a_miss() {
 
 use octoray::kernels::{MollerTrumboreCulled, Watertight};
 use octoray::query::closest_t;
-use octoray::VertexTriangle;
+use octoray::{Exact, VertexTriangle};
 
 /// `closest_t` and `closest` of `K` over `prims` for one ray: (t bits from each, u and v bits).
 fn t_both<K: Kernel<f32x8>>(ray: &Ray, prims: &[K::Prim]) -> Option<(u32, u32, u32, u32)> {
@@ -100,9 +100,12 @@ fn closest_t_and_closest_hit_agree_on_the_sign_of_zero() {
     let got = t_both::<MollerTrumbore>(&ray, &packed);
     let (t1, t2, ..) = got.expect("the ray starts on the triangles: a hit at t = 0");
     assert_eq!((t1, t2), (0, 0), "t must be +0 from both queries");
-    // The watertight tier reports only hits provably in front of the origin (its contract), so
-    // it has no hit here to disagree about.
-    assert_eq!(t_both::<Watertight>(&ray, &verts), None);
+    // The watertight and exact tiers decide t ∈ [t_min, t_max] exactly: the exact t is 0, in the
+    // closed range, so they report it too, as +0 from both queries.
+    let (t1, t2, ..) = t_both::<Watertight>(&ray, &verts).expect("exact t = 0 is in range");
+    assert_eq!((t1, t2), (0, 0));
+    let (t1, t2, ..) = t_both::<Exact>(&ray, &verts).expect("exact t = 0 is in range");
+    assert_eq!((t1, t2), (0, 0));
 }
 
 #[test]

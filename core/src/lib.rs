@@ -66,7 +66,9 @@ pub use glam;
 pub use hit::{Hit, LanesHit};
 pub use kernels::Kernel;
 #[cfg(feature = "triangle")]
-pub use kernels::{MollerTrumbore, MollerTrumboreCulled, Watertight, WatertightCulled};
+pub use kernels::{
+    Exact, ExactCulled, MollerTrumbore, MollerTrumboreCulled, Watertight, WatertightCulled,
+};
 #[cfg(feature = "sphere")]
 pub use kernels::{NaiveSphere, StableSphere};
 pub use lanes::{LaneMask, Lanes, Scalar, V3};

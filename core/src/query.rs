@@ -83,8 +83,10 @@ impl<L: Lanes> ClosestHit<L> {
     }
 }
 
-/// Closest hit per lane with kernel `K`. Each hit shrinks the lane's `t_max`, and only a strictly
-/// nearer hit replaces the best one, so ties in `t` go to the lower index.
+/// Closest hit per lane with kernel `K`. The kernel sees `t_max` lowered to the best `t` so far,
+/// loosened by 2⁻²⁰ relative (as the BVH does, so both find the same hits: a kernel that decides
+/// the range exactly never rejects a hit whose rounded `t` is nearer); a hit replaces the best one
+/// only when its `t` is strictly nearer, so ties in `t` go to the lower index.
 ///
 /// # Panics
 /// When `prims.len() > u32::MAX`: primitive indices are `u32`, and a longer slice would report
@@ -92,27 +94,35 @@ impl<L: Lanes> ClosestHit<L> {
 pub fn closest<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> ClosestHit<L> {
     check_prim_count(prims.len());
     let pre = K::prepare(ray);
+    let t_max = ray.t_max;
     let mut ray = *ray;
     let mut best = ClosestHit::<L>::miss();
+    best.t = ray.t_max;
     let mut scale = L::splat(1.0);
     for (i, prim) in prims.iter().enumerate() {
         let h = K::intersect(&ray, &pre, prim);
         if h.mask.any() {
-            // On lanes that have a hit, t_max is the best t so far.
-            let nearer: L::Mask = h.t.lt(ray.t_max);
-            let m = h.mask & (!best.mask | nearer);
-            ray.t_max = L::select(m, h.t, ray.t_max);
+            let m = h.mask & (!best.mask | h.t.lt(best.t));
+            best.t = L::select(m, h.t, best.t);
             best.u = L::select(m, h.u, best.u);
             best.v = L::select(m, h.v, best.v);
             scale = L::select(m, h.scale, scale);
             best.prim = L::select_index(m, L::splat_index(i as u32), best.prim);
             best.mask = best.mask | m;
+            ray.t_max = L::select(m, loosen(best.t, t_max), ray.t_max);
         }
     }
-    best.t = ray.t_max;
     // The barycentrics were carried as numerators: one division for the winner.
     (best.u, best.v) = crate::kernels::barycentrics(best.u, best.v, scale);
     best
+}
+
+/// `t` moved up by 2⁻²⁰ relative (and the smallest normal), but never past the caller's `t_max`:
+/// the kernels' `t_max` once a query has a hit at `t`, so that a hit at the same or a nearer
+/// rounded `t` is still reported while far hits are cut off. The BVH uses the same rule.
+#[inline(always)]
+pub(crate) fn loosen<L: Lanes>(t: L, t_max: L) -> L {
+    (t + t.abs() * L::splat(1.0 / 1_048_576.0) + L::splat(f32::MIN_POSITIVE)).min_or_rhs(t_max)
 }
 
 /// Panics with a clear message when `n` primitives cannot be indexed by `u32`.
@@ -130,15 +140,18 @@ pub(crate) fn check_prim_count(n: usize) {
 /// `mask` and `t` equal those of [`closest`], bit for bit.
 pub fn closest_t<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> (L::Mask, L) {
     let pre = K::prepare(ray);
+    let t_max = ray.t_max;
     let mut ray = *ray;
     let mut found = L::first_lanes(0);
+    let mut t = ray.t_max;
     for prim in prims {
         let h = K::intersect(&ray, &pre, prim);
-        // Every reported t is ≤ the shrinking t_max, so the newest hit is never farther.
-        ray.t_max = L::select(h.mask, h.t, ray.t_max);
+        let m = h.mask & (!found | h.t.lt(t));
+        t = L::select(m, h.t, t);
+        ray.t_max = L::select(m, loosen(t, t_max), ray.t_max);
         found = found | h.mask;
     }
-    (found, ray.t_max)
+    (found, t)
 }
 
 /// Lanes whose ray hits any primitive in `[t_min, t_max]` with kernel `K` (occlusion). Stops as

@@ -67,7 +67,14 @@ fn better<S: Scalar>(t: S, id: u32, best: &Option<Best<S>>) -> bool {
 #[inline(always)]
 fn bound<S: Scalar>(t_max: S, best: &Option<Best<S>>) -> S {
     match best {
-        Some(b) => loosen(b.t),
+        Some(b) => {
+            let l = loosen(b.t);
+            if l < t_max {
+                l
+            } else {
+                t_max
+            }
+        }
         None => t_max,
     }
 }
@@ -270,8 +277,6 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
         near: L::select(br.valid, L::splat(f32::NEG_INFINITY), nan),
     });
     let mut ray = *rays;
-    let loosen_lanes =
-        |t: L| t + t.abs() * L::splat(1.0 / 1_048_576.0) + L::splat(f32::MIN_POSITIVE);
     let mut cull = rays.t_max;
     while let Some(e) = stack.pop() {
         let mut live = e.near.le(cull);
@@ -318,7 +323,7 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
                     best.v = L::select(m, L::splat_scalar(o.v), best.v);
                     best.scale = L::select(m, L::splat_scalar(o.scale), best.scale);
                     best.id = L::select_index(m, L::splat_index(o.id), best.id);
-                    cull = L::select(m, loosen_lanes(best.t), cull);
+                    cull = L::select(m, crate::query::loosen(best.t, rays.t_max), cull);
                 }
             }
             continue;
@@ -359,7 +364,7 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
                         break;
                     }
                 } else {
-                    cull = L::select(m, loosen_lanes(best.t), cull);
+                    cull = L::select(m, crate::query::loosen(best.t, rays.t_max), cull);
                 }
             }
             continue;

@@ -5,6 +5,7 @@
 //! |---|---|---|---|
 //! | standard | [`MollerTrumbore`] | [`PackedTriangle`] | [`crate::kernels::triangle::moller_trumbore`] |
 //! | watertight | [`Watertight`] | [`VertexTriangle`] | [`crate::kernels::triangle::watertight`] |
+//! | exact | [`Exact`] | [`VertexTriangle`] | [`crate::kernels::triangle::exact`] |
 //! | f64 | the standard, watertight and sphere kernels at `L = f64`, `f64x4`, `f64x8`  | same | same math, f64 rounding |
 //! | sphere stable | [`StableSphere`] | [`PackedSphere`] | [`crate::kernels::sphere::stable`] |
 //! | sphere naive | [`NaiveSphere`] | [`PackedSphere`] | [`crate::kernels::sphere::naive`] |
@@ -80,6 +81,17 @@ pub struct Watertight<const CULL: bool = false>;
 #[cfg(feature = "triangle")]
 pub type WatertightCulled = Watertight<true>;
 
+/// Exact tier: the watertight body with every edge sign and the range of `t` decided exactly
+/// (a certified filter, exact arithmetic where it cannot decide;
+/// [`crate::kernels::triangle::exact`]); `CULL = true` ([`ExactCulled`]) skips back faces.
+#[cfg(feature = "triangle")]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Exact<const CULL: bool = false>;
+
+/// Exact tier with back-face culling.
+#[cfg(feature = "triangle")]
+pub type ExactCulled = Exact<true>;
+
 /// Stable sphere (Ray Tracing Gems ch. 7, [`crate::kernels::sphere::stable`]).
 #[cfg(feature = "sphere")]
 #[derive(Clone, Copy, Debug, Default)]
@@ -133,5 +145,23 @@ impl<L: Lanes, const CULL: bool> Kernel<L> for Watertight<CULL> {
         prim: &crate::prim::VertexLanes<L>,
     ) -> LanesHit<L> {
         crate::kernels::triangle::watertight::intersect_sheared_with::<L, CULL>(ray, pre, prim)
+    }
+}
+
+#[cfg(feature = "triangle")]
+impl<L: Lanes, const CULL: bool> Kernel<L> for Exact<CULL> {
+    type Prim = VertexTriangle;
+    type Pre = crate::kernels::triangle::watertight::ShearedRay<L>;
+    #[inline(always)]
+    fn prepare(ray: &RayLanes<L>) -> Self::Pre {
+        crate::kernels::triangle::watertight::ShearedRay::new(ray)
+    }
+    #[inline(always)]
+    fn intersect_lanes(
+        ray: &RayLanes<L>,
+        pre: &Self::Pre,
+        prim: &crate::prim::VertexLanes<L>,
+    ) -> LanesHit<L> {
+        crate::kernels::triangle::watertight::sheared_body::<L, CULL, true>(ray, pre, prim)
     }
 }

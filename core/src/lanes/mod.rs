@@ -8,6 +8,7 @@
 //! build. It deliberately has no `mul_add` and no `recip`: `wide` fuses the first only on FMA
 //! builds and approximates the second on x86.
 
+pub mod exact;
 mod v3;
 #[cfg(feature = "wide")]
 mod wide;

@@ -40,8 +40,10 @@
 //!   Normalise directions (or keep `ρ²·t ≥ 1e-30`). Scaling the depths after the division
 //!   instead of before would remove most of this; not done yet (it changes the δt proof).
 
-use crate::hit::{t_in_range, LanesHit};
+use crate::hit::LanesHit;
+use crate::kernels::triangle::exact::ExactPlane;
 use crate::lanes::V3;
+use core::cmp::Ordering;
 use crate::lanes::{LaneMask, Lanes, Scalar};
 use crate::prim::{Primitive, VertexLanes};
 use crate::prim::{RayLanes, VertexTriangle};
@@ -69,6 +71,9 @@ pub struct ShearedRay<L: Lanes> {
     sx: L,
     sy: L,
     sz: L,
+    /// Lanes whose shear factors carry a relative rounding error only (normal, or exactly zero
+    /// from a zero direction component): the filters' bounds hold there.
+    safe: L::Mask,
 }
 
 impl<L: Lanes> ShearedRay<L> {
@@ -105,63 +110,24 @@ impl<L: Lanes> ShearedRay<L> {
         };
         let (kx, ky) = (choose(kx0, ky0), choose(ky0, kx0));
         let one = L::splat(1.0);
+        let (dx, dy) = (kx.pick(d), ky.pick(d));
+        let (sx, sy, sz) = (dx / dz, dy / dz, one / dz);
+        let normal = L::splat(f32::MIN_POSITIVE);
+        let zero = L::zero();
+        let safe = (sx.abs().ge(normal) | !dx.ne(zero))
+            & (sy.abs().ge(normal) | !dy.ne(zero))
+            & sz.abs().ge(normal)
+            & sz.is_finite();
         Self {
             kx,
             ky,
             kz,
-            sx: kx.pick(d) / dz,
-            sy: ky.pick(d) / dz,
-            sz: one / dz,
+            sx,
+            sy,
+            sz,
+            safe,
         }
     }
-}
-
-/// `γ(n) = n·u / (1 − n·u)`: the bound on the relative error of `n` chained roundings.
-#[inline(always)]
-fn gamma<L: Lanes>(n: f64) -> L {
-    let u = L::Scalar::UNIT_ROUNDOFF;
-    L::splat_scalar(L::Scalar::from_f64(n * u / (1.0 - n * u)))
-}
-
-#[inline(always)]
-fn max3<L: Lanes>(a: L, b: L, c: L) -> L {
-    let m = L::select(a.ge(b), a, b);
-    L::select(m.ge(c), m, c)
-}
-
-#[inline(always)]
-fn min3<L: Lanes>(a: L, b: L, c: L) -> L {
-    let m = L::select(a.le(b), a, b);
-    L::select(m.le(c), m, c)
-}
-
-/// Is the plane hit of the ray `o + t·d` with the triangle `v` provably at `t > 0`? The plane
-/// form `t = N/D`, `N = (v0 − o)·n`, `D = d·n`, `n = (v1 − v0) × (v2 − v0)`, evaluated in f64:
-/// each is a sum of products of at most three rounded differences, off by at most
-/// `γ₉·Σ|terms|` (`γₖ = k·2⁻⁵³/(1 − k·2⁻⁵³)`; γ₁₀ is used). Proven when both exceed their bounds
-/// and agree in sign; otherwise not (the caller then rejects, as before).
-fn in_front_f64(o: [f64; 3], d: [f64; 3], v: [[f64; 3]; 3]) -> bool {
-    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-    let (e1, e2, s) = (sub(v[1], v[0]), sub(v[2], v[0]), sub(v[0], o));
-    let n = [
-        e1[1] * e2[2] - e1[2] * e2[1],
-        e1[2] * e2[0] - e1[0] * e2[2],
-        e1[0] * e2[1] - e1[1] * e2[0],
-    ];
-    // |n| componentwise as its terms' magnitudes: the bound's Σ|terms|.
-    let na = [
-        (e1[1] * e2[2]).abs() + (e1[2] * e2[1]).abs(),
-        (e1[2] * e2[0]).abs() + (e1[0] * e2[2]).abs(),
-        (e1[0] * e2[1]).abs() + (e1[1] * e2[0]).abs(),
-    ];
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let adot = |a: [f64; 3], b: [f64; 3]| a[0].abs() * b[0] + a[1].abs() * b[1] + a[2].abs() * b[2];
-    let u = f64::EPSILON / 2.0;
-    let gamma10 = 10.0 * u / (1.0 - 10.0 * u);
-    let (num, den) = (dot(s, n), dot(d, n));
-    let (num_err, den_err) = (gamma10 * adot(s, na), gamma10 * adot(d, na));
-    let ok = |x: f64, e: f64| x.is_finite() && e.is_finite() && x.abs() > e;
-    ok(num, num_err) && ok(den, den_err) && (num > 0.0) == (den > 0.0)
 }
 
 /// Tests every lane of `ray` against one triangle (precomputing the shear each call; queries
@@ -189,6 +155,51 @@ pub fn intersect_sheared_with<L: Lanes, const CULL: bool>(
     sh: &ShearedRay<L>,
     tri: &VertexLanes<L>,
 ) -> LanesHit<L> {
+    sheared_body::<L, CULL, false>(ray, sh, tri)
+}
+
+#[inline(always)]
+fn max3<L: Lanes>(a: L, b: L, c: L) -> L {
+    a.max_or_rhs(b).max_or_rhs(c)
+}
+
+#[inline(always)]
+fn min3<L: Lanes>(a: L, b: L, c: L) -> L {
+    a.min_or_rhs(b).min_or_rhs(c)
+}
+
+/// `k·u` (u the unit roundoff of the lanes' scalar).
+#[inline(always)]
+fn ulps<L: Lanes>(k: f64) -> L {
+    L::splat_scalar(L::Scalar::from_f64(k * L::Scalar::UNIT_ROUNDOFF))
+}
+
+/// The body of the watertight and exact tiers. `EXACT = false`: the watertight tier, edge signs as
+/// computed (exact at zero). `EXACT = true`: the exact tier, edge signs certified by a bound or
+/// recomputed exactly. Both decide `t ∈ [t_min, t_max]` exactly.
+///
+/// Error bounds (standard model, `u` the unit roundoff; *safe* lanes are those where no product
+/// can under- or overflow, checked below; every other lane goes to the exact predicates):
+/// - Sheared coordinates: `|Âx − Ax| ≤ γ₄·Rx` with `Rx = max|a[kx]| + |Sx|·max|a[kz]|` over the
+///   three vertices (rounding of `v − o`, of `Sx`, of the product and of the difference), and
+///   `|Âx| ≤ (1 + γ₄)·Rx`; likewise `y`.
+/// - Edge functions: `|û − U| ≤ 2γ₄(2 + γ₄)·Rx·Ry + 2γ₂(1 + γ₄)²·Rx·Ry < 21u·Rx·Ry`; the
+///   computed bound `22u·R̂x·R̂y` covers the rounding of `R̂x`, `R̂y` too (`δe`).
+/// - Scaled depths: `|ẑ − Az| ≤ γ₃·|Az|`; `D̂ = û + v̂ + ŵ` (all of one sign) is off by
+///   `δD ≤ 3δe + 2u·|D̂|`; `N̂ = û·ẑa + v̂·ẑb + ŵ·ẑc` by `δN ≤ 3Z·(δe + 6u·E)` (`E`, `Z` the largest
+///   `|û|`, `|ẑ|`); so `|t̂ − N/D| ≤ (δN + |t̂|·δD)/(|D̂| − δD) + 3u·|t̂|` (the division and the
+///   comparisons), padded by 1 % and floored at the smallest normal (`δt`).
+/// - `t` is also the barycentric mean of the depths, with weights `≥ −β`, `β = δe/(|D̂| − δD)`
+///   (0 for the exact tier's certified signs), so it lies within `(4u + 6β)·Z` of
+///   `[min ẑ, max ẑ]`: this decides small distant triangles, where `δt` is loose.
+/// - A comparison `fl(t̂ − δt) > t_min` (strict) implies `t − δt > t_min` exactly: rounding is
+///   monotone and `t_min` is representable.
+#[inline(always)]
+pub(crate) fn sheared_body<L: Lanes, const CULL: bool, const EXACT: bool>(
+    ray: &RayLanes<L>,
+    sh: &ShearedRay<L>,
+    tri: &VertexLanes<L>,
+) -> LanesHit<L> {
     let zero = L::zero();
     // Vertices relative to the origin, permuted so the ray runs along +z, then sheared so it
     // runs along the z axis itself: the hit test becomes a 2D point-in-triangle test at (0, 0).
@@ -196,103 +207,173 @@ pub fn intersect_sheared_with<L: Lanes, const CULL: bool>(
     let b = tri.v1 - ray.origin;
     let c = tri.v2 - ray.origin;
     let (az, bz, cz) = (sh.kz.pick(a), sh.kz.pick(b), sh.kz.pick(c));
-    let ax = sh.kx.pick(a) - sh.sx * az;
-    let ay = sh.ky.pick(a) - sh.sy * az;
-    let bx = sh.kx.pick(b) - sh.sx * bz;
-    let by = sh.ky.pick(b) - sh.sy * bz;
-    let cx = sh.kx.pick(c) - sh.sx * cz;
-    let cy = sh.ky.pick(c) - sh.sy * cz;
+    let (akx, bkx, ckx) = (sh.kx.pick(a), sh.kx.pick(b), sh.kx.pick(c));
+    let (aky, bky, cky) = (sh.ky.pick(a), sh.ky.pick(b), sh.ky.pick(c));
+    let ax = akx - sh.sx * az;
+    let ay = aky - sh.sy * az;
+    let bx = bkx - sh.sx * bz;
+    let by = bky - sh.sy * bz;
+    let cx = ckx - sh.sx * cz;
+    let cy = cky - sh.sy * cz;
 
     // Scaled barycentrics: the 2D edge functions of (0, 0) against edges BC, CA, AB.
     let mut u = cx * by - cy * bx;
     let mut v = ax * cy - ay * cx;
     let mut w = bx * ay - by * ax;
-    // An exactly zero edge function may have the wrong sign from rounding; recompute those lanes
-    // with exact products (f64 for f32 lanes) so neighbours agree on which side the ray passes.
-    let fix = ray.active & !(u.ne(zero) & v.ne(zero) & w.ne(zero));
-    if fix.any() {
-        u = L::select(fix, L::diff_of_products_wide(cx, by, cy, bx), u);
-        v = L::select(fix, L::diff_of_products_wide(ax, cy, ay, cx), v);
-        w = L::select(fix, L::diff_of_products_wide(bx, ay, by, ax), w);
+
+    // The bound δe on the edge functions' error (doc above); the exact tier needs it to decide the
+    // edges, the watertight tier only for the t range (then computed after the early out).
+    let edge_bound = || {
+        let max_z = max3(az.abs(), bz.abs(), cz.abs());
+        let rx = max3(akx.abs(), bkx.abs(), ckx.abs()) + sh.sx.abs() * max_z;
+        let ry = max3(aky.abs(), bky.abs(), cky.abs()) + sh.sy.abs() * max_z;
+        let rxy = rx * ry;
+        let (lo, hi) = (L::splat(SAFE_MIN), L::splat(SAFE_MAX));
+        let safe = sh.safe & rx.ge(lo) & ry.ge(lo) & rxy.ge(lo) & rxy.le(hi);
+        (ulps::<L>(22.0) * rxy, safe)
+    };
+
+    let mut mask;
+    // Lanes the exact tier decides with the exact predicates (none for the watertight tier).
+    let mut exact_lanes = ray.active & !ray.active;
+    let mut de = zero;
+    let mut de_safe = exact_lanes;
+    if EXACT {
+        let (bound, safe) = edge_bound();
+        de = bound;
+        de_safe = safe;
+        let (hi, lo) = (max3(u, v, w), min3(u, v, w));
+        let mixed = hi.gt(de) & lo.lt(-de);
+        let inside = lo.gt(de) | hi.lt(-de);
+        exact_lanes = ray.active & !(safe & (mixed | inside));
+        mask = ray.active & safe & inside;
+    } else {
+        // An exactly zero edge function may have the wrong sign from rounding; recompute those
+        // lanes with exact products (f64 for f32 lanes) so neighbours agree on which side the ray
+        // passes.
+        let fix = ray.active & !(u.ne(zero) & v.ne(zero) & w.ne(zero));
+        if fix.any() {
+            u = L::select(fix, L::diff_of_products_wide(cx, by, cy, bx), u);
+            v = L::select(fix, L::diff_of_products_wide(ax, cy, ay, cx), v);
+            w = L::select(fix, L::diff_of_products_wide(bx, ay, by, ax), w);
+        }
+        let mixed =
+            (u.lt(zero) | v.lt(zero) | w.lt(zero)) & (u.gt(zero) | v.gt(zero) | w.gt(zero));
+        mask = ray.active & !mixed;
     }
-    let mixed = (u.lt(zero) | v.lt(zero) | w.lt(zero)) & (u.gt(zero) | v.gt(zero) | w.gt(zero));
     let det = u + v + w;
-    let mut mask = ray.active & !mixed & det.ne(zero) & det.is_finite();
+    mask = mask & det.ne(zero) & det.is_finite();
     if CULL {
         // With kx, ky swapped when d[kz] < 0 the winding seen along the ray is preserved: a front
         // face (normal against the ray) has det > 0, for every choice of axes (tested).
         mask = mask & det.gt(zero);
     }
-    if mask.none() {
+    if mask.none() && exact_lanes.none() {
         return LanesHit::miss(mask);
+    }
+    if !EXACT {
+        (de, de_safe) = edge_bound();
     }
 
     // Scaled distance: the z of the hit point is the barycentric blend of the sheared z's.
     let (azs, bzs, czs) = (sh.sz * az, sh.sz * bz, sh.sz * cz);
     let t_num = u * azs + v * bzs + w * czs;
-    let flip = det.lt(zero);
-    let abs_det = det.abs();
-    let t_s = L::select(flip, -t_num, t_num);
-    mask = mask & t_s.ge(ray.t_min * abs_det) & t_s.le(ray.t_max * abs_det);
-    if mask.none() {
-        return LanesHit::miss(mask);
-    }
-
     // `+ 0` maps −0 to +0 (and nothing else): one canonical zero for every query.
     let t = t_num / det + zero;
-    // Is the hit provably in front of the origin? Two sufficient conditions; a hit is kept if
-    // either holds.
-    //
-    // (1) t > δt, a conservative bound on the rounding error of t (after pbrt-v4 §6.8.7): the
-    // sheared x, y carry ≤ γ5·(|A[kx]| + |Sx·A[kz]|) (the shear product's error is relative to
-    // the product, so axis-aligned rays shear exactly), the scaled z ≤ γ3 of itself. Each edge
-    // function is then off by δe = 2(γ2·maxX·maxY + δy·maxX + δx·maxY) and T/det by
-    // δt = 3(γ3·maxE·maxZ + δe·maxZ + δz·maxE)/|det|.
-    let abs3 = |p: L, q: L, r: L| max3(p.abs(), q.abs(), r.abs());
-    let max_z = abs3(azs, bzs, czs);
-    let max_x = abs3(ax, bx, cx);
-    let max_y = abs3(ay, by, cy);
-    let shear_z = abs3(az, bz, cz);
-    let raw_x = abs3(sh.kx.pick(a), sh.kx.pick(b), sh.kx.pick(c)) + sh.sx.abs() * shear_z;
-    let raw_y = abs3(sh.ky.pick(a), sh.ky.pick(b), sh.ky.pick(c)) + sh.sy.abs() * shear_z;
-    let dz = gamma::<L>(3.0) * max_z;
-    let dx = gamma::<L>(5.0) * raw_x;
-    let dy = gamma::<L>(5.0) * raw_y;
-    let de = L::splat(2.0) * (gamma::<L>(2.0) * max_x * max_y + dy * max_x + dx * max_y);
-    let max_e = abs3(u, v, w);
-    let dt = L::splat(3.0) * (gamma::<L>(3.0) * max_e * max_z + de * max_z + dz * max_e) / abs_det;
-    // (2) t is the barycentric average of the vertices' scaled depths, so errors in the weights
-    // move it only within their range: if every vertex is in front by more than its own error
-    // plus the weights' error (≤ 3δe/|det| each) times the depth range, so is the hit. This keeps
-    // small, distant triangles, where (1) is far too loose.
-    let min_z = min3(azs, bzs, czs);
-    let range_z = max3(azs, bzs, czs) - min_z;
-    let in_front = (min_z - dz).gt(L::splat(3.0) * de / abs_det * range_z);
-    let in_range = t_in_range(ray, t);
-    let mut proven = t.gt(dt) | in_front;
-    // (3) Neither bound proves it (a long thin triangle met at a shallow angle, say): decide the
-    // depth again from the lane's inputs in f64 with its own error bound, instead of rejecting a
-    // hit that may be far in front (issue 11). Rare; lane by lane.
-    let undecided = mask & in_range & !proven;
-    if undecided.any() {
-        let mut bits = undecided.bitmask();
-        let mut keep = 0u32;
+
+    // Is t in [t_min, t_max]? Two certificates (doc above): t̂ ± δt, and the depth interval.
+    let abs_det = det.abs();
+    let max_z = max3(azs.abs(), bzs.abs(), czs.abs());
+    let max_e = max3(u.abs(), v.abs(), w.abs());
+    let err_d = L::splat(3.01) * de + ulps::<L>(2.01) * abs_det;
+    let err_n = L::splat(3.01) * max_z * (de + ulps::<L>(6.01) * max_e);
+    let room = abs_det - err_d;
+    let abs_t = t.abs();
+    let dt = L::splat(1.01) * ((err_n + abs_t * err_d) / room)
+        + ulps::<L>(3.0) * abs_t
+        + L::splat(f32::MIN_POSITIVE);
+    let beta = if EXACT { zero } else { de / room };
+    let dz = (ulps::<L>(4.0) + L::splat(6.0) * beta) * max_z * L::splat(1.01);
+    let (z_lo, z_hi) = (min3(azs, bzs, czs) - dz, max3(azs, bzs, czs) + dz);
+    let (t_lo, t_hi) = (t - dt, t + dt);
+    let (t_min, t_max) = (ray.t_min, ray.t_max);
+    let above_min = t_lo.gt(t_min) | z_lo.gt(t_min);
+    let below_min = t_hi.lt(t_min) | z_hi.lt(t_min);
+    let below_max = t_hi.lt(t_max) | z_hi.lt(t_max);
+    let above_max = t_lo.gt(t_max) | z_lo.gt(t_max);
+    let me = max_z * max_e;
+    let safe = de_safe
+        & room.gt(L::splat(0.01) * err_d)
+        & max_z.ge(L::splat(SAFE_MIN))
+        & me.ge(L::splat(SAFE_MIN))
+        & me.le(L::splat(SAFE_MAX));
+    let decided = safe & (above_min | below_min) & (below_max | above_max);
+    let in_range = decided & above_min & below_max;
+    // Lanes whose range the filter cannot decide: exactly, from the lane's inputs.
+    let undecided = mask & !decided;
+    mask = mask & in_range;
+    let (mut t, mut u_out, mut v_out, mut scale) = (t, v, w, det);
+    let todo = undecided | exact_lanes;
+    if todo.any() {
+        let mut bits = todo.bitmask();
+        let (mut keep, mut exact_bits) = (0u32, 0u32);
+        let (mut te, mut ue, mut ve) = ([0.0f64; 16], [0.0f64; 16], [0.0f64; 16]);
         while bits != 0 {
             let i = bits.trailing_zeros() as usize;
             bits &= bits - 1;
-            let f = |p: V3<L>| p.lane(i).map(Scalar::to_f64);
-            if in_front_f64(f(ray.origin), f(ray.dir), [f(tri.v0), f(tri.v1), f(tri.v2)]) {
+            let f = |p: V3<L>| p.lane(i).map(Scalar::to_f32);
+            let Some(plane) =
+                ExactPlane::new(f(ray.origin), f(ray.dir), [f(tri.v0), f(tri.v1), f(tri.v2)])
+            else {
+                continue;
+            };
+            let whole = (exact_lanes.bitmask() >> i) & 1 == 1;
+            if whole && !(plane.inside() && (!CULL || plane.front())) {
+                continue;
+            }
+            let ge_min = matches!(
+                plane.t_cmp_f64(t_min.lane(i).to_f64()),
+                Some(Ordering::Greater | Ordering::Equal)
+            );
+            let le_max = matches!(
+                plane.t_cmp_f64(t_max.lane(i).to_f64()),
+                Some(Ordering::Less | Ordering::Equal)
+            );
+            if plane.parallel() {
+                continue;
+            }
+            if ge_min && le_max {
                 keep |= 1 << i;
+                if whole {
+                    exact_bits |= 1 << i;
+                    te[i] = plane.t();
+                    (ue[i], ve[i]) = plane.barycentrics();
+                }
             }
         }
-        proven = proven | L::mask_from_bits(keep);
+        mask = mask | L::mask_from_bits(keep);
+        if exact_bits != 0 {
+            let sel = L::mask_from_bits(exact_bits);
+            let from = |x: &[f64; 16]| L::from_fn(|i| L::Scalar::from_f64(x[i % 16]));
+            t = L::select(sel, from(&te), t);
+            u_out = L::select(sel, from(&ue), u_out);
+            v_out = L::select(sel, from(&ve), v_out);
+            scale = L::select(sel, L::splat(1.0), scale);
+        }
     }
-    mask = mask & proven & in_range;
+    // The exact t is in range; the rounded one may sit just outside: clamp (toward the exact).
+    let t = L::select(t.lt(t_min), t_min, t);
+    let t = L::select(t.gt(t_max), t_max, t);
+    mask = mask & t.le(L::splat(f32::MAX)) & t.ge(L::splat(-f32::MAX));
     LanesHit {
         mask,
         t,
-        u: v,
-        v: w,
-        scale: det,
+        u: u_out,
+        v: v_out,
+        scale,
     }
 }
+
+/// Magnitudes inside `[SAFE_MIN, SAFE_MAX]` keep every product of the filters normal and finite.
+const SAFE_MIN: f32 = 7.888_609e-31; // 2^-100
+const SAFE_MAX: f32 = 1.267_650_6e30; // 2^100

@@ -1,0 +1,211 @@
+//! Exact ray-triangle predicates from f32 inputs: what the exact tier decides by, and what the
+//! watertight tier falls back to when its filter cannot decide whether `t` is in range.
+//!
+//! With `a, b, c` the vertices relative to the origin, the line `o + t·d` meets the plane at
+//! `t = N/D`, `N = det[a, b, c]`, `D = d·((b − a) × (c − a))`, and passes edge `jk` on the side
+//! given by the signed volume `wᵢ = det[d, v_j − o, v_k − o]` (`D = w₀ + w₁ + w₂`; the
+//! barycentrics are `wᵢ/D`). Each is a polynomial of degree three in the inputs; expanding every
+//! difference gives at most 48 products of three f32 values, which [`ExactSum`] adds without
+//! rounding. `t ≥ bound` is the sign of `N − bound·D` times that of `D` (products of four).
+//! Rare and scalar: one call costs about as much as a few hundred filtered tests.
+
+use crate::lanes::exact::ExactSum;
+use core::cmp::Ordering;
+
+type P = [f32; 3];
+
+/// Adds `s·det[r₀ − q₀, r₁ − q₁, r₂ − q₂]` (rows as differences of f32 vectors) term by term.
+fn add_det(acc: &mut ExactSum, rows: [(P, P); 3], negate: bool) -> bool {
+    // det = Σ over permutations σ of sgn(σ)·Π rowᵢ[σᵢ]; each entry x − y splits in two.
+    const PERMS: [([usize; 3], bool); 6] = [
+        ([0, 1, 2], false),
+        ([1, 2, 0], false),
+        ([2, 0, 1], false),
+        ([0, 2, 1], true),
+        ([2, 1, 0], true),
+        ([1, 0, 2], true),
+    ];
+    let mut ok = true;
+    for (sigma, odd) in PERMS {
+        for pick in 0..8u32 {
+            let mut f = [0.0f32; 3];
+            let mut neg = odd ^ negate;
+            for (i, fi) in f.iter_mut().enumerate() {
+                let (x, y) = rows[i];
+                if (pick >> i) & 1 == 0 {
+                    *fi = x[sigma[i]];
+                } else {
+                    *fi = y[sigma[i]];
+                    neg = !neg;
+                }
+            }
+            if f.contains(&0.0) {
+                continue;
+            }
+            if neg {
+                f[0] = -f[0];
+            }
+            ok &= acc.add_product(&f);
+        }
+    }
+    ok
+}
+
+/// The exact plane quantities of one ray and one triangle (see the module docs).
+#[derive(Clone, Copy, Debug)]
+pub struct ExactPlane {
+    /// `wᵢ = det[d, v_j − o, v_k − o]` for the edges opposite `v0`, `v1`, `v2`.
+    pub w: [ExactSum; 3],
+    /// `N = det[v0 − o, v1 − o, v2 − o]`.
+    pub num: ExactSum,
+    /// `D = w₀ + w₁ + w₂`.
+    pub den: ExactSum,
+}
+
+impl ExactPlane {
+    /// The exact quantities, or `None` when an input is NaN or infinite.
+    pub fn new(o: P, d: P, v: [P; 3]) -> Option<Self> {
+        let zero = [0.0; 3];
+        let mut w = [ExactSum::ZERO; 3];
+        let mut ok = true;
+        for (i, wi) in w.iter_mut().enumerate() {
+            let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+            ok &= add_det(wi, [(d, zero), (v[j], o), (v[k], o)], false);
+        }
+        let mut num = ExactSum::ZERO;
+        ok &= add_det(&mut num, [(v[0], o), (v[1], o), (v[2], o)], false);
+        let den = w[0].plus(&w[1]).plus(&w[2]);
+        ok.then_some(Self { w, num, den })
+    }
+
+    /// The line passes inside the triangle, edges and vertices included, and is not parallel to
+    /// its plane (nor is the triangle degenerate): every `wᵢ ≥ 0` or every `wᵢ ≤ 0`, `D ≠ 0`.
+    pub fn inside(&self) -> bool {
+        let s = self.w.map(|w| w.sign());
+        let nonneg = s.iter().all(|&x| x != Ordering::Less);
+        let nonpos = s.iter().all(|&x| x != Ordering::Greater);
+        (nonneg || nonpos) && self.den.sign() != Ordering::Equal
+    }
+
+    /// The line is parallel to the plane, or the triangle degenerate (`D = 0`): no `t`.
+    pub fn parallel(&self) -> bool {
+        self.den.sign() == Ordering::Equal
+    }
+
+    /// The normal `(v1 − v0) × (v2 − v0)` points against the ray (`D < 0`): a front face.
+    pub fn front(&self) -> bool {
+        self.den.sign() == Ordering::Less
+    }
+
+    /// The exact `t` compared with `bound` (`D ≠ 0`): `t.cmp(bound)`, `None` for a NaN bound.
+    pub fn t_cmp(&self, bound: f32) -> Option<Ordering> {
+        if bound.is_nan() {
+            return None;
+        }
+        if bound.is_infinite() {
+            return Some(if bound > 0.0 {
+                Ordering::Less
+            } else {
+                Ordering::Greater
+            });
+        }
+        // t − bound = (N − bound·D)/D.
+        let diff = self.num.plus(&self.den.times(bound)?.negated());
+        let s = diff.sign();
+        Some(if self.den.sign() == Ordering::Less {
+            s.reverse()
+        } else {
+            s
+        })
+    }
+
+    /// The exact `t` compared with an `f64` bound: exact when the bound is an f32 value (as a
+    /// caller's `t_min`/`t_max` always is); a bound strictly between two f32 values (an f64
+    /// lane's `t_max` tightened to an earlier hit) is compared exactly with both neighbours and,
+    /// only when `t` lies between them too, through the f64 value of `t` (relative error below
+    /// 2⁻⁵¹).
+    pub fn t_cmp_f64(&self, bound: f64) -> Option<Ordering> {
+        let b = bound as f32;
+        if b as f64 == bound || bound.is_nan() {
+            return self.t_cmp(b);
+        }
+        let (lo, hi) = if (b as f64) < bound {
+            (b, next_up(b))
+        } else {
+            (next_down(b), b)
+        };
+        match (self.t_cmp(lo)?, self.t_cmp(hi)?) {
+            (Ordering::Less | Ordering::Equal, _) => Some(Ordering::Less),
+            (_, Ordering::Greater | Ordering::Equal) => Some(Ordering::Greater),
+            _ => self.t().partial_cmp(&bound),
+        }
+    }
+
+    /// `t = N/D` to f64 (relative error below 2⁻⁵¹; NaN when `D = 0`).
+    pub fn t(&self) -> f64 {
+        self.num.ratio(&self.den)
+    }
+
+    /// The barycentrics of `v1` and `v2`, `w₁/D` and `w₂/D`, to f64 (relative error below
+    /// 2⁻⁵¹).
+    pub fn barycentrics(&self) -> (f64, f64) {
+        (self.w[1].ratio(&self.den), self.w[2].ratio(&self.den))
+    }
+}
+
+fn next_up(x: f32) -> f32 {
+    match x {
+        _ if x.is_nan() || x == f32::INFINITY => x,
+        _ if x == 0.0 => f32::from_bits(1),
+        _ if x > 0.0 => f32::from_bits(x.to_bits() + 1),
+        _ => f32::from_bits(x.to_bits() - 1),
+    }
+}
+
+fn next_down(x: f32) -> f32 {
+    -next_up(-x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_textbook_hit_and_its_exact_quantities() {
+        // Ray down −z from (0.25, 0.25, 1) onto the unit right triangle in z = 0.
+        let p = ExactPlane::new(
+            [0.25, 0.25, 1.0],
+            [0.0, 0.0, -1.0],
+            [[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        )
+        .unwrap();
+        assert!(p.inside());
+        assert!(p.front());
+        assert_eq!(p.t(), 1.0);
+        assert_eq!(p.barycentrics(), (0.25, 0.25));
+        assert_eq!(p.t_cmp(1.0), Some(Ordering::Equal));
+        assert_eq!(p.t_cmp(1.0 - f32::EPSILON / 2.0), Some(Ordering::Greater));
+        assert_eq!(p.t_cmp(f32::INFINITY), Some(Ordering::Less));
+        assert_eq!(p.t_cmp(f32::NAN), None);
+        assert_eq!(p.t_cmp_f64(1.0 + 1e-12), Some(Ordering::Less));
+        assert_eq!(p.t_cmp_f64(1.0 - 1e-12), Some(Ordering::Greater));
+        // Through the edge v1-v2 exactly: w0 = 0, still inside.
+        let p = ExactPlane::new(
+            [0.5, 0.5, 1.0],
+            [0.0, 0.0, -1.0],
+            [[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        )
+        .unwrap();
+        assert_eq!(p.w[0].sign(), Ordering::Equal);
+        assert!(p.inside());
+        // Parallel to the plane: D = 0, never inside.
+        let p = ExactPlane::new(
+            [0.25, 0.25, 0.0],
+            [1.0, 0.0, 0.0],
+            [[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        )
+        .unwrap();
+        assert!(!p.inside());
+        assert!(ExactPlane::new([f32::NAN; 3], [1.0; 3], [[0.0; 3]; 3]).is_none());
+    }
+}
