@@ -10,7 +10,7 @@ use testkit::accuracy::*;
 /// Documented bounds on |Δt| / (ε·scale) (see each kernel's rustdoc).
 fn t_bound(tier: TriTier) -> f64 {
     match tier {
-        TriTier::Textbook | TriTier::Standard | TriTier::Watertight => 8.0,
+        TriTier::Textbook | TriTier::Standard | TriTier::Watertight | TriTier::Exact => 8.0,
         TriTier::F64 | TriTier::F64Watertight => 2.0,
     }
 }
@@ -44,7 +44,10 @@ fn check_set(name: &str, cases: &[TriCase]) {
             tier.name(),
             s.max_scaled()
         );
-        if matches!(tier, TriTier::Watertight | TriTier::F64Watertight) {
+        if matches!(
+            tier,
+            TriTier::Watertight | TriTier::Exact | TriTier::F64Watertight
+        ) {
             assert_eq!(
                 s.behind, 0,
                 "{name}: the watertight tier's δt bound must reject hits behind the origin"

@@ -14,8 +14,8 @@ use octoray::bvh::traverse::{
 use octoray::bvh::{Bvh8, Bvh8Node, Bvh8Ref, BvhError, EMPTY};
 use octoray::glam::Vec3;
 use octoray::kernels::{
-    Kernel, MollerTrumbore, MollerTrumboreCulled, NaiveSphere, StableSphere, Watertight,
-    WatertightCulled,
+    Exact, ExactCulled, Kernel, MollerTrumbore, MollerTrumboreCulled, NaiveSphere, StableSphere,
+    Watertight, WatertightCulled,
 };
 use octoray::packet::{f32x16, f32x4, f32x8};
 use octoray::query;
@@ -207,6 +207,8 @@ fn triangle_scene(seed: u64) {
     check::<f32x4, MollerTrumboreCulled>(&packed, &rays);
     check::<f32x8, Watertight>(&verts, &rays);
     check::<f32x16, WatertightCulled>(&verts, &rays);
+    check::<f32x8, Exact>(&verts, &rays);
+    check::<f32x16, ExactCulled>(&verts, &rays);
     check::<f64x4, MollerTrumbore>(&packed, &rays);
     check::<f64x4, Watertight>(&verts, &rays);
 }

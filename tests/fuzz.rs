@@ -22,8 +22,8 @@ use octoray::bvh::Bvh8;
 use octoray::glam::Vec3;
 use octoray::ingest;
 use octoray::kernels::{
-    Kernel, MollerTrumbore, MollerTrumboreCulled, NaiveSphere, StableSphere, Watertight,
-    WatertightCulled,
+    Exact, ExactCulled, Kernel, MollerTrumbore, MollerTrumboreCulled, NaiveSphere, StableSphere,
+    Watertight, WatertightCulled,
 };
 use octoray::packet::{f32x16, f32x4, f32x8};
 use octoray::prim::Primitive;
@@ -341,6 +341,15 @@ fn run_case(rng: &mut Rng, others: &[Ray]) {
     ));
     tier::<f32, f32x16, Watertight, _>(&ray, others, &verts, true, "watertight x16");
     tier::<f32, f32x4, WatertightCulled, _>(&ray, others, &verts, true, "watertight culled x4");
+    // The exact tier: the oracle's answer on every case, no margin, no range exemption.
+    let exact = tier::<f32, f32x8, Exact, _>(&ray, others, &verts, true, "exact x8");
+    tier::<f32, f32x16, ExactCulled, _>(&ray, others, &verts, true, "exact culled x16");
+    let truth = oracle::triangle(&ray, v);
+    assert_eq!(
+        exact.is_some(),
+        truth.hit_finite(),
+        "exact tier != oracle: {ray:?} {v:?}"
+    );
     hits.push((
         tier::<f64, f64x4, MollerTrumbore, _>(&ray, others, &packed, true, "f64 standard"),
         true,

@@ -5,7 +5,7 @@
 use octoray_testkit as testkit;
 
 use octoray::glam::Vec3;
-use octoray::kernels::{Kernel, MollerTrumbore, NaiveSphere, StableSphere, Watertight};
+use octoray::kernels::{Exact, Kernel, MollerTrumbore, NaiveSphere, StableSphere, Watertight};
 use octoray::packet::{f32x16, f32x4, f32x8, LaneMask, Lanes};
 use octoray::{query, RayLanes, Scalar, VertexTriangle};
 use octoray::{Hit, PackedTriangle, Ray};
@@ -140,7 +140,8 @@ fn check_all_widths_triangles(rays: &[Ray], tris: &[[Vec3; 3]]) -> Result<(), Te
         .iter()
         .map(|t| VertexTriangle::new(t[0], t[1], t[2]))
         .collect();
-    all_widths::<Watertight, VertexTriangle>(rays, &verts)
+    all_widths::<Watertight, VertexTriangle>(rays, &verts)?;
+    all_widths::<Exact, VertexTriangle>(rays, &verts)
 }
 
 fn check_all_widths_spheres(rays: &[Ray], spheres: &[(Vec3, f32)]) -> Result<(), TestCaseError> {

@@ -69,6 +69,7 @@ fn every_query_kind_agrees_with_closest_hit() {
     kinds_agree::<f32x8, MollerTrumbore>(&rays, &packed);
     kinds_agree::<f32x16, MollerTrumbore>(&rays, &packed);
     kinds_agree::<f32x8, Watertight>(&rays, &verts);
+    kinds_agree::<f32x16, octoray::kernels::Exact>(&rays, &verts);
     kinds_agree::<f32x8, MollerTrumboreCulled>(&rays, &packed);
     kinds_agree::<f32x8, StableSphere>(&rays, &spheres);
 }

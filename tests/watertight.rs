@@ -1,7 +1,7 @@
 //! Watertightness: rays from inside closed, jittered meshes (an icosphere and a cube grid),
 //! centred at 0, 1e2, 1e4 and 1e6, aimed exactly at vertices, at edge points, at interior points
-//! and anywhere. The watertight tier must never let a ray escape; the crack rates of the standard
-//! tier on the same rays are printed (`-- --nocapture`).
+//! and anywhere. The watertight and exact tiers must never let a ray escape; the crack rates of the
+//! standard tier on the same rays are printed (`-- --nocapture`).
 #![cfg(all(feature = "triangle", feature = "sphere"))]
 use octoray_testkit as testkit;
 
@@ -12,18 +12,20 @@ fn run(rays_per_mesh: usize) -> (usize, usize, usize) {
     for r in crack_suite(rays_per_mesh) {
         let e = &r.escapes;
         println!(
-            "{:>9} at {:>7e}: {} triangles, {} rays: escapes standard {} ({:.3} %), watertight {}",
+            "{:>9} at {:>7e}: {} triangles, {} rays: escapes standard {} ({:.3} %), watertight {}, exact {}",
             r.mesh,
             r.center,
             r.triangles,
             r.rays,
             e.standard,
             100.0 * e.standard as f64 / r.rays as f64,
-            e.watertight
+            e.watertight,
+            e.exact
         );
         total += r.rays;
         std += e.standard;
-        wt += e.watertight;
+        // Watertight and exact tiers together: both must let nothing through.
+        wt += e.watertight + e.exact;
     }
     (total, std, wt)
 }
@@ -34,7 +36,7 @@ fn watertight_tier_has_no_cracks() {
     let (total, std, wt) = run(12_500);
     println!("total {total} rays: standard {std} escapes, watertight {wt}");
     assert_eq!(total, 100_000);
-    assert_eq!(wt, 0, "the watertight tier let {wt} rays escape");
+    assert_eq!(wt, 0, "the watertight or exact tier let {wt} rays escape");
     // The same rays do find the cracks of the non-watertight tiers: the test has teeth.
     assert!(
         std > 0,
@@ -107,7 +109,7 @@ fn watertight_tier_has_no_cracks_on_thin_triangles_million_rays() {
 fn thin(rays_per_mesh: usize) -> (usize, usize, usize) {
     use octoray::bvh::traverse::occluded as bvh_occluded;
     use octoray::bvh::Bvh8;
-    use octoray::kernels::Watertight;
+    use octoray::kernels::{Exact, Watertight};
     use octoray::packet::f32x8;
     use testkit::mesh::{escapes, thin_crack_meshes};
     let (mut total, mut wt, mut std) = (0, 0, 0);
@@ -117,18 +119,21 @@ fn thin(rays_per_mesh: usize) -> (usize, usize, usize) {
         let bvh = Bvh8::build(&verts);
         let mut blocked = vec![false; rays.len()];
         bvh_occluded::<f32x8, Watertight>(bvh.as_ref(), &rays, &mut blocked);
-        let through_bvh = blocked.iter().filter(|b| !**b).count();
+        let mut through_bvh = blocked.iter().filter(|b| !**b).count();
+        bvh_occluded::<f32x8, Exact>(bvh.as_ref(), &rays, &mut blocked);
+        through_bvh += blocked.iter().filter(|b| !**b).count();
         println!(
-            "{name}: {} triangles, max aspect {:.0}, {} rays: escapes standard {}, watertight {} (BVH {through_bvh})",
+            "{name}: {} triangles, max aspect {:.0}, {} rays: escapes standard {}, watertight {}, exact {} (BVH, both {through_bvh})",
             mesh.tris.len(),
             mesh.max_aspect(),
             rays.len(),
             e.standard,
-            e.watertight
+            e.watertight,
+            e.exact
         );
         assert!(mesh.max_aspect() > 100.0, "{name} is not thin");
         total += rays.len();
-        wt += e.watertight + through_bvh;
+        wt += e.watertight + e.exact + through_bvh;
         std += e.standard;
     }
     (total, wt, std)

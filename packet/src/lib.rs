@@ -62,7 +62,7 @@ pub mod tiers {
     pub use octoray_core::kernels::Kernel;
     #[cfg(feature = "triangle")]
     pub use octoray_core::kernels::{
-        MollerTrumbore, MollerTrumboreCulled, Watertight, WatertightCulled,
+        Exact, ExactCulled, MollerTrumbore, MollerTrumboreCulled, Watertight, WatertightCulled,
     };
     #[cfg(feature = "sphere")]
     pub use octoray_core::kernels::{NaiveSphere, StableSphere};

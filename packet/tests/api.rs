@@ -5,8 +5,8 @@
 
 use octoray_core::glam::Vec3;
 use octoray_packet::tiers::{
-    Kernel, MollerTrumbore, MollerTrumboreCulled, NaiveSphere, StableSphere, Watertight,
-    WatertightCulled,
+    Exact, ExactCulled, Kernel, MollerTrumbore, MollerTrumboreCulled, NaiveSphere, StableSphere,
+    Watertight, WatertightCulled,
 };
 use octoray_packet::{
     closest, closest_t, occluded, scene, Bvh8, ClosestHit, Lanes, PackedSphere, PackedTriangle,
@@ -105,6 +105,8 @@ fn every_tier_at_every_width_through_the_packet_crate() {
     widths!(MollerTrumboreCulled, &packed);
     widths!(Watertight, &verts);
     widths!(WatertightCulled, &verts);
+    widths!(Exact, &verts);
+    widths!(ExactCulled, &verts);
     widths!(StableSphere, &spheres);
     widths!(NaiveSphere, &spheres);
 }

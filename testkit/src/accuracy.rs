@@ -4,7 +4,7 @@
 use crate::oracle::{self, SphereTruth};
 use crate::Rng;
 use glam::Vec3;
-use octoray::kernels::{MollerTrumbore, NaiveSphere, StableSphere, Watertight};
+use octoray::kernels::{Exact, MollerTrumbore, NaiveSphere, StableSphere, Watertight};
 use octoray::textbook::{self, InsideTest, TextbookHit};
 use octoray::{intersect, VertexTriangle};
 use octoray::{Hit, PackedSphere, PackedTriangle, Ray, Sphere};
@@ -67,15 +67,17 @@ pub enum TriTier {
     Textbook,
     Standard,
     Watertight,
+    Exact,
     F64,
     F64Watertight,
 }
 
 impl TriTier {
-    pub const ALL: [TriTier; 5] = [
+    pub const ALL: [TriTier; 6] = [
         Self::Textbook,
         Self::Standard,
         Self::Watertight,
+        Self::Exact,
         Self::F64,
         Self::F64Watertight,
     ];
@@ -85,6 +87,7 @@ impl TriTier {
             Self::Textbook => "textbook (scalar)",
             Self::Standard => "standard (MT)",
             Self::Watertight => "watertight",
+            Self::Exact => "exact",
             Self::F64 => "f64 (MT)",
             Self::F64Watertight => "f64 watertight",
         }
@@ -109,6 +112,7 @@ impl TriTier {
             .map(textbook_hit),
             Self::Standard => intersect::<f32, MollerTrumbore>(&c.ray, &packed),
             Self::Watertight => intersect::<f32, Watertight>(&c.ray, &verts),
+            Self::Exact => intersect::<f32, Exact>(&c.ray, &verts),
             Self::F64 => intersect::<f64, MollerTrumbore>(&c.ray, &packed),
             Self::F64Watertight => intersect::<f64, Watertight>(&c.ray, &verts),
         }
@@ -296,6 +300,38 @@ pub fn grazing_cases(seed: u64, n: usize, angle: f32) -> Vec<TriCase> {
             let (axis, ang) = (rng.vec3(1.0).normalize(), rng.range(0.0, 3.0));
             let rot = |p: Vec3| rotate(p, axis, ang);
             let (v, o, target) = (v.map(rot), rot(o), rot(target));
+            TriCase {
+                ray: Ray::new(o, target - o),
+                v,
+            }
+        })
+        .collect()
+}
+
+/// Long thin triangles of aspect ratio `aspect` (longest edge over height), randomly rotated and
+/// placed up to 1e3 from the origin, hit by rays from up to 10 lengths away aimed at random points
+/// of the plane near the triangle, at its vertices, or at f32 points of its edges.
+pub fn thin_cases(seed: u64, n: usize, aspect: f32) -> Vec<TriCase> {
+    let mut rng = Rng(seed);
+    (0..n)
+        .map(|i| {
+            let len = rng.range(1.0, 100.0);
+            let h = len / aspect;
+            let v = [
+                Vec3::ZERO,
+                Vec3::new(len, 0.0, 0.0),
+                Vec3::new(rng.range(-0.5, 1.5) * len, h, 0.0),
+            ];
+            let (axis, ang) = (rng.vec3(1.0).normalize(), rng.range(0.0, 3.0));
+            let shift = rng.vec3(1000.0);
+            let v = v.map(|p| rotate(p, axis, ang) + shift);
+            let k = (rng.next_u64() % 3) as usize;
+            let target = match i % 3 {
+                0 => point(v, rng.range(-0.25, 1.25), rng.range(-0.25, 1.25)),
+                1 => v[k],
+                _ => v[k] + (v[(k + 1) % 3] - v[k]) * rng.range(0.0, 1.0),
+            };
+            let o = target + rng.vec3(10.0 * len);
             TriCase {
                 ray: Ray::new(o, target - o),
                 v,

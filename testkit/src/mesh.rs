@@ -2,7 +2,7 @@
 
 use crate::Rng;
 use glam::Vec3;
-use octoray::kernels::{MollerTrumbore, Watertight};
+use octoray::kernels::{Exact, MollerTrumbore, Watertight};
 use octoray::packet::f32x8;
 use octoray::query::occluded;
 use octoray::{LaneMask, RayLanes, VertexTriangle};
@@ -134,6 +134,7 @@ pub fn escapes_by(
 pub struct Escapes {
     pub standard: usize,
     pub watertight: usize,
+    pub exact: usize,
 }
 
 fn escapes_with<K: octoray::Kernel<f32x8>>(rays: &[Ray], prims: &[K::Prim]) -> usize {
@@ -152,6 +153,7 @@ pub fn escapes(mesh: &Mesh, rays: &[Ray]) -> Escapes {
     Escapes {
         standard: escapes_with::<MollerTrumbore>(rays, &packed),
         watertight: escapes_with::<Watertight>(rays, &verts),
+        exact: escapes_with::<Exact>(rays, &verts),
     }
 }
 

@@ -98,17 +98,21 @@ fn cmp_f32_ratio(x: f32, num: &BigInt, den: &BigInt) -> Ordering {
 }
 
 fn ratio_f64(num: &BigInt, den: &BigInt) -> f64 {
-    // Shift both to ~60 bits before converting, so huge and tiny ratios keep their precision.
-    let shift = num.bits().max(den.bits()) as i64 - 60;
-    let (n, d) = if shift > 0 {
-        (num >> shift as usize, den >> shift as usize)
-    } else {
-        (num.clone(), den.clone())
+    // Each to ~60 leading bits with its own power of two, so ratios of very different sizes keep
+    // their precision (a shared shift would round the smaller one away).
+    let top = |x: &BigInt| {
+        let shift = x.bits() as i64 - 60;
+        if shift > 0 {
+            ((x >> shift as usize).to_f64().unwrap_or(f64::NAN), shift)
+        } else {
+            (x.to_f64().unwrap_or(f64::NAN), 0)
+        }
     };
-    match (n.to_f64(), d.to_f64()) {
-        (Some(n), Some(d)) if d != 0.0 => n / d,
-        _ => f64::NAN,
+    let ((n, en), (d, ed)) = (top(num), top(den));
+    if d == 0.0 {
+        return f64::NAN;
     }
+    libm::scalbn(n / d, (en - ed).clamp(-4000, 4000) as i32)
 }
 
 /// The inverse of [`ordered`] (−0 comes back as +0).
@@ -185,6 +189,14 @@ impl TriangleTruth {
     /// Whole f32 steps between `t` and the exact t.
     pub fn t_ulps(&self, t: f32) -> u64 {
         ulps_between(t, |y| cmp_f32_ratio(y, &self.num, &self.den))
+    }
+    /// What a kernel must report: an exact hit whose t is a finite f32 value (hits beyond
+    /// ±f32::MAX are misses by every tier's contract).
+    pub fn hit_finite(&self) -> bool {
+        self.hit
+            && !self.degenerate
+            && self.t_cmp(f32::MAX) != Ordering::Greater
+            && self.t_cmp(-f32::MAX) != Ordering::Less
     }
     /// The exact t compared with an f32 (for range checks).
     pub fn t_cmp(&self, x: f32) -> Ordering {

@@ -45,9 +45,7 @@ impl Default for ExactSum {
 
 impl ExactSum {
     /// The empty sum.
-    pub const ZERO: Self = Self {
-        limbs: [0; LIMBS],
-    };
+    pub const ZERO: Self = Self { limbs: [0; LIMBS] };
 
     /// Adds `±M·2^(pos − ORIGIN)` (`M < 2^96`, `0 ≤ pos`, `pos + 96 < 64·LIMBS − 10`).
     fn add_at(&mut self, neg: bool, m: u128, pos: u32) {

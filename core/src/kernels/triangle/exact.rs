@@ -9,8 +9,17 @@
 //! rounding. `t ≥ bound` is the sign of `N − bound·D` times that of `D` (products of four).
 //! Rare and scalar: one call costs about as much as a few hundred filtered tests.
 
+use crate::kernels::triangle::watertight::{sheared_body_traced, ShearedRay};
 use crate::lanes::exact::ExactSum;
+use crate::lanes::Lanes;
+use crate::prim::{Primitive, RayLanes, VertexTriangle};
 use core::cmp::Ordering;
+
+/// The lanes of `ray` that the exact tier ([`crate::kernels::Exact`]) decides with exact
+/// arithmetic against `tri` because its filter cannot: what its fallback rate is measured with.
+pub fn fallback_lanes<L: Lanes>(ray: &RayLanes<L>, tri: &VertexTriangle) -> L::Mask {
+    sheared_body_traced::<L, false, true>(ray, &ShearedRay::new(ray), &tri.splat()).1
+}
 
 type P = [f32; 3];
 

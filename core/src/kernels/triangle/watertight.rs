@@ -43,10 +43,10 @@
 use crate::hit::LanesHit;
 use crate::kernels::triangle::exact::ExactPlane;
 use crate::lanes::V3;
-use core::cmp::Ordering;
 use crate::lanes::{LaneMask, Lanes, Scalar};
 use crate::prim::{Primitive, VertexLanes};
 use crate::prim::{RayLanes, VertexTriangle};
+use core::cmp::Ordering;
 
 /// One axis per lane, as two masks (`x`, `y`; neither set means `z`).
 #[derive(Clone, Copy, Debug)]
@@ -200,6 +200,16 @@ pub(crate) fn sheared_body<L: Lanes, const CULL: bool, const EXACT: bool>(
     sh: &ShearedRay<L>,
     tri: &VertexLanes<L>,
 ) -> LanesHit<L> {
+    sheared_body_traced::<L, CULL, EXACT>(ray, sh, tri).0
+}
+
+/// [`sheared_body`], also returning the lanes decided by exact arithmetic.
+#[inline(always)]
+pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>(
+    ray: &RayLanes<L>,
+    sh: &ShearedRay<L>,
+    tri: &VertexLanes<L>,
+) -> (LanesHit<L>, L::Mask) {
     let zero = L::zero();
     // Vertices relative to the origin, permuted so the ray runs along +z, then sheared so it
     // runs along the z axis itself: the hit test becomes a 2D point-in-triangle test at (0, 0).
@@ -257,8 +267,7 @@ pub(crate) fn sheared_body<L: Lanes, const CULL: bool, const EXACT: bool>(
             v = L::select(fix, L::diff_of_products_wide(ax, cy, ay, cx), v);
             w = L::select(fix, L::diff_of_products_wide(bx, ay, by, ax), w);
         }
-        let mixed =
-            (u.lt(zero) | v.lt(zero) | w.lt(zero)) & (u.gt(zero) | v.gt(zero) | w.gt(zero));
+        let mixed = (u.lt(zero) | v.lt(zero) | w.lt(zero)) & (u.gt(zero) | v.gt(zero) | w.gt(zero));
         mask = ray.active & !mixed;
     }
     let det = u + v + w;
@@ -269,7 +278,7 @@ pub(crate) fn sheared_body<L: Lanes, const CULL: bool, const EXACT: bool>(
         mask = mask & det.gt(zero);
     }
     if mask.none() && exact_lanes.none() {
-        return LanesHit::miss(mask);
+        return (LanesHit::miss(mask), exact_lanes);
     }
     if !EXACT {
         (de, de_safe) = edge_bound();
@@ -316,7 +325,8 @@ pub(crate) fn sheared_body<L: Lanes, const CULL: bool, const EXACT: bool>(
     let todo = undecided | exact_lanes;
     if todo.any() {
         let mut bits = todo.bitmask();
-        let (mut keep, mut exact_bits) = (0u32, 0u32);
+        let safe_bits = safe.bitmask();
+        let (mut keep, mut exact_t, mut exact_bary) = (0u32, 0u32, 0u32);
         let (mut te, mut ue, mut ve) = ([0.0f64; 16], [0.0f64; 16], [0.0f64; 16]);
         while bits != 0 {
             let i = bits.trailing_zeros() as usize;
@@ -328,7 +338,7 @@ pub(crate) fn sheared_body<L: Lanes, const CULL: bool, const EXACT: bool>(
                 continue;
             };
             let whole = (exact_lanes.bitmask() >> i) & 1 == 1;
-            if whole && !(plane.inside() && (!CULL || plane.front())) {
+            if plane.parallel() || whole && !(plane.inside() && (!CULL || plane.front())) {
                 continue;
             }
             let ge_min = matches!(
@@ -339,23 +349,29 @@ pub(crate) fn sheared_body<L: Lanes, const CULL: bool, const EXACT: bool>(
                 plane.t_cmp_f64(t_max.lane(i).to_f64()),
                 Some(Ordering::Less | Ordering::Equal)
             );
-            if plane.parallel() {
-                continue;
-            }
             if ge_min && le_max {
                 keep |= 1 << i;
-                if whole {
-                    exact_bits |= 1 << i;
+                // The exact tier's lanes, and lanes whose filter values over- or underflowed,
+                // take t from the exact quantities; the exact tier's lanes take the barycentrics
+                // too (the watertight tier keeps its own, which agree with its edge test).
+                if whole || (safe_bits >> i) & 1 == 0 {
+                    exact_t |= 1 << i;
                     te[i] = plane.t();
-                    (ue[i], ve[i]) = plane.barycentrics();
+                }
+                if whole {
+                    exact_bary |= 1 << i;
+                    let (b1, b2) = plane.barycentrics();
+                    (ue[i], ve[i]) = (b1.clamp(0.0, 1.0), b2.clamp(0.0, 1.0));
                 }
             }
         }
         mask = mask | L::mask_from_bits(keep);
-        if exact_bits != 0 {
-            let sel = L::mask_from_bits(exact_bits);
-            let from = |x: &[f64; 16]| L::from_fn(|i| L::Scalar::from_f64(x[i % 16]));
-            t = L::select(sel, from(&te), t);
+        let from = |x: &[f64; 16]| L::from_fn(|i| L::Scalar::from_f64(x[i % 16]));
+        if exact_t != 0 {
+            t = L::select(L::mask_from_bits(exact_t), from(&te), t);
+        }
+        if exact_bary != 0 {
+            let sel = L::mask_from_bits(exact_bary);
             u_out = L::select(sel, from(&ue), u_out);
             v_out = L::select(sel, from(&ve), v_out);
             scale = L::select(sel, L::splat(1.0), scale);
@@ -365,13 +381,14 @@ pub(crate) fn sheared_body<L: Lanes, const CULL: bool, const EXACT: bool>(
     let t = L::select(t.lt(t_min), t_min, t);
     let t = L::select(t.gt(t_max), t_max, t);
     mask = mask & t.le(L::splat(f32::MAX)) & t.ge(L::splat(-f32::MAX));
-    LanesHit {
+    let hit = LanesHit {
         mask,
         t,
         u: u_out,
         v: v_out,
         scale,
-    }
+    };
+    (hit, todo)
 }
 
 /// Magnitudes inside `[SAFE_MIN, SAFE_MAX]` keep every product of the filters normal and finite.
