@@ -5,7 +5,7 @@ use crate::peers;
 use crate::workload::Workload;
 use glam::Vec3A;
 use octoray::kernels::{
-    Kernel, MollerTrumbore, MollerTrumboreCulled, NaiveSphere, StableSphere, Watertight,
+    Exact, Kernel, MollerTrumbore, MollerTrumboreCulled, NaiveSphere, StableSphere, Watertight,
 };
 use octoray::packet::{f32x16, f32x4, f32x8};
 use octoray::query;
@@ -215,6 +215,25 @@ pub fn entries() -> Vec<Entry> {
         >(
             &p.w.rays, &p.vertex
         )),
+        e!(
+            "exact x1",
+            Triangle,
+            Closest,
+            true,
+            |p| closest::<f32, Exact>(&p.w.rays, &p.vertex)
+        ),
+        e!("exact x8", Triangle, Closest, true, |p| closest::<
+            f32x8,
+            Exact,
+        >(
+            &p.w.rays, &p.vertex
+        )),
+        e!("exact x16", Triangle, Closest, true, |p| closest::<
+            f32x16,
+            Exact,
+        >(
+            &p.w.rays, &p.vertex
+        )),
         e!("f64 x1", Triangle, Closest, true, |p| closest::<
             f64,
             MollerTrumbore,
@@ -277,6 +296,13 @@ pub fn entries() -> Vec<Entry> {
         >(
             &p.w.rays, &p.vertex
         )),
+        e!(
+            "exact x8 any",
+            Triangle,
+            Any,
+            true,
+            |p| any::<f32x8, Exact>(&p.w.rays, &p.vertex)
+        ),
         e!("peer: glam MT scalar", Triangle, Closest, false, |p| {
             peers::glam_closest(&p.w.rays, &p.glam)
         }),

@@ -168,6 +168,12 @@ fn min3<L: Lanes>(a: L, b: L, c: L) -> L {
     a.min_or_rhs(b).min_or_rhs(c)
 }
 
+/// Every lane set when `b`, none otherwise.
+#[inline(always)]
+fn all_if<L: Lanes>(b: bool) -> L::Mask {
+    L::first_lanes(if b { L::LANES } else { 0 })
+}
+
 /// `k·u` (u the unit roundoff of the lanes' scalar).
 #[inline(always)]
 fn ulps<L: Lanes>(k: f64) -> L {
@@ -187,13 +193,15 @@ fn ulps<L: Lanes>(k: f64) -> L {
 ///   computed bound `22u·R̂x·R̂y` covers the rounding of `R̂x`, `R̂y` too (`δe`).
 /// - Scaled depths: `|ẑ − Az| ≤ γ₃·|Az|`; `D̂ = û + v̂ + ŵ` (all of one sign) is off by
 ///   `δD ≤ 3δe + 2u·|D̂|`; `N̂ = û·ẑa + v̂·ẑb + ŵ·ẑc` by `δN ≤ 3Z·(δe + 6u·E)` (`E`, `Z` the largest
-///   `|û|`, `|ẑ|`); so `|t̂ − N/D| ≤ (δN + |t̂|·δD)/(|D̂| − δD) + 3u·|t̂|` (the division and the
-///   comparisons), padded by 1 % and floored at the smallest normal (`δt`).
+///   `|û|`, `|ẑ|`). With `D̂ > δD` (so `D > 0` after normalising signs), `t ≥ b` for a bound `b`
+///   when `N̂ − b·D̂ > δN + |b|·δD` plus the rounding of that expression (`3u·(|N̂| + |b|·|D̂|)`):
+///   no division.
 /// - `t` is also the barycentric mean of the depths, with weights `≥ −β`, `β = δe/(|D̂| − δD)`
 ///   (0 for the exact tier's certified signs), so it lies within `(4u + 6β)·Z` of
-///   `[min ẑ, max ẑ]`: this decides small distant triangles, where `δt` is loose.
-/// - A comparison `fl(t̂ − δt) > t_min` (strict) implies `t − δt > t_min` exactly: rounding is
-///   monotone and `t_min` is representable.
+///   `[min ẑ, max ẑ]`: this decides small distant triangles, where the first bound is loose.
+///   Compared after multiplying through by `|D̂| − δD`, again without a division.
+/// - Each computed comparison `fl(x) > y` is strict with the error terms padded (constants
+///   rounded up by 1 %, `5u` for the depths), so it implies the exact inequality.
 #[inline(always)]
 pub(crate) fn sheared_body<L: Lanes, const CULL: bool, const EXACT: bool>(
     ray: &RayLanes<L>,
@@ -233,13 +241,14 @@ pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>
 
     // The bound δe on the edge functions' error (doc above); the exact tier needs it to decide the
     // edges, the watertight tier only for the t range (then computed after the early out).
+    // The largest |a[kz]| of the three vertices (unscaled depth).
+    let depth = max3(az.abs(), bz.abs(), cz.abs());
     let edge_bound = || {
-        let max_z = max3(az.abs(), bz.abs(), cz.abs());
-        let rx = max3(akx.abs(), bkx.abs(), ckx.abs()) + sh.sx.abs() * max_z;
-        let ry = max3(aky.abs(), bky.abs(), cky.abs()) + sh.sy.abs() * max_z;
+        let rx = max3(akx.abs(), bkx.abs(), ckx.abs()) + sh.sx.abs() * depth;
+        let ry = max3(aky.abs(), bky.abs(), cky.abs()) + sh.sy.abs() * depth;
         let rxy = rx * ry;
         let (lo, hi) = (L::splat(SAFE_MIN), L::splat(SAFE_MAX));
-        let safe = sh.safe & rx.ge(lo) & ry.ge(lo) & rxy.ge(lo) & rxy.le(hi);
+        let safe = sh.safe & rx.min_or_rhs(ry).ge(lo) & rxy.ge(lo) & rxy.le(hi);
         (ulps::<L>(22.0) * rxy, safe)
     };
 
@@ -280,36 +289,56 @@ pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>
     if mask.none() && exact_lanes.none() {
         return (LanesHit::miss(mask), exact_lanes);
     }
-    if !EXACT {
-        (de, de_safe) = edge_bound();
-    }
 
-    // Scaled distance: the z of the hit point is the barycentric blend of the sheared z's.
+    // Scaled distance: the z of the hit point is the barycentric blend of the sheared z's;
+    // t = N/D with the numerator's sign normalised so that D > 0.
     let (azs, bzs, czs) = (sh.sz * az, sh.sz * bz, sh.sz * cz);
     let t_num = u * azs + v * bzs + w * czs;
-    // `+ 0` maps −0 to +0 (and nothing else): one canonical zero for every query.
-    let t = t_num / det + zero;
-
-    // Is t in [t_min, t_max]? Two certificates (doc above): t̂ ± δt, and the depth interval.
     let abs_det = det.abs();
-    let max_z = max3(azs.abs(), bzs.abs(), czs.abs());
+    let num = L::select(det.lt(zero), -t_num, t_num);
+
+    let (t_min, t_max) = (ray.t_min, ray.t_max);
+    let inf = L::splat(f32::INFINITY);
+    if !EXACT {
+        // The watertight tier compares the rounded t with t_max (as the standard tier does, and as
+        // closest-hit queries order hits): far hits leave here, before any bound is computed.
+        mask = mask & num.le(t_max * abs_det);
+        if mask.none() {
+            return (LanesHit::miss(mask), exact_lanes);
+        }
+        (de, de_safe) = edge_bound();
+    }
+    // Is t in [t_min, t_max]? Two certificates (doc above), both free of divisions: the signs of
+    // N − t_b·D, and (where that leaves lanes open) the depth interval.
+    // max |ẑ| = |Sz|·max |a[kz]| exactly: rounding is monotone.
+    let max_z = sh.sz.abs() * depth;
     let max_e = max3(u.abs(), v.abs(), w.abs());
     let err_d = L::splat(3.01) * de + ulps::<L>(2.01) * abs_det;
     let err_n = L::splat(3.01) * max_z * (de + ulps::<L>(6.01) * max_e);
     let room = abs_det - err_d;
-    let abs_t = t.abs();
-    let dt = L::splat(1.01) * ((err_n + abs_t * err_d) / room)
-        + ulps::<L>(3.0) * abs_t
-        + L::splat(f32::MIN_POSITIVE);
-    let beta = if EXACT { zero } else { de / room };
-    let dz = (ulps::<L>(4.0) + L::splat(6.0) * beta) * max_z * L::splat(1.01);
-    let (z_lo, z_hi) = (min3(azs, bzs, czs) - dz, max3(azs, bzs, czs) + dz);
-    let (t_lo, t_hi) = (t - dt, t + dt);
-    let (t_min, t_max) = (ray.t_min, ray.t_max);
-    let above_min = t_lo.gt(t_min) | z_lo.gt(t_min);
-    let below_min = t_hi.lt(t_min) | z_hi.lt(t_min);
-    let below_max = t_hi.lt(t_max) | z_hi.lt(t_max);
-    let above_max = t_lo.gt(t_max) | z_lo.gt(t_max);
+    let err_nd = err_d + ulps::<L>(3.01) * abs_det;
+    let err_n3 = err_n + ulps::<L>(3.01) * num.abs();
+    let slack = |b: L| err_n3 + b.abs() * err_nd;
+    let (at_min, at_max) = (t_min * abs_det, t_max * abs_det);
+    let (s_min, s_max) = (slack(t_min), slack(t_max));
+    let mut above_min = (num - at_min).gt(s_min) | t_min.le(-inf);
+    let mut below_min = (at_min - num).gt(s_min);
+    let mut below_max = (at_max - num).gt(s_max) | t_max.ge(inf) | all_if::<L>(!EXACT);
+    let mut above_max = (num - at_max).gt(s_max) & all_if::<L>(EXACT);
+    if (mask & !((above_min | below_min) & (below_max | above_max))).any() {
+        // Depth interval, scaled by `room`: the weights are ≥ −δe/room (0 for the exact tier).
+        let beta_e = if EXACT {
+            zero
+        } else {
+            L::splat(6.01) * de * max_z
+        };
+        let ez = ulps::<L>(5.01) * max_z * room + beta_e;
+        let (z_min, z_max) = (min3(azs, bzs, czs), max3(azs, bzs, czs));
+        above_min = above_min | ((z_min - t_min) * room).gt(ez);
+        below_min = below_min | ((t_min - z_max) * room).gt(ez);
+        below_max = below_max | ((t_max - z_max) * room).gt(ez);
+        above_max = above_max | ((z_min - t_max) * room).gt(ez);
+    }
     let me = max_z * max_e;
     let safe = de_safe
         & room.gt(L::splat(0.01) * err_d)
@@ -321,6 +350,11 @@ pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>
     // Lanes whose range the filter cannot decide: exactly, from the lane's inputs.
     let undecided = mask & !decided;
     mask = mask & in_range;
+    if mask.none() && undecided.none() && exact_lanes.none() {
+        return (LanesHit::miss(mask), exact_lanes);
+    }
+    // `+ 0` maps −0 to +0 (and nothing else): one canonical zero for every query.
+    let t = t_num / det + zero;
     let (mut t, mut u_out, mut v_out, mut scale) = (t, v, w, det);
     let todo = undecided | exact_lanes;
     if todo.any() {
@@ -345,10 +379,12 @@ pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>
                 plane.t_cmp_f64(t_min.lane(i).to_f64()),
                 Some(Ordering::Greater | Ordering::Equal)
             );
-            let le_max = matches!(
-                plane.t_cmp_f64(t_max.lane(i).to_f64()),
-                Some(Ordering::Less | Ordering::Equal)
-            );
+            // (The watertight tier's t_max test is on the rounded t, passed already.)
+            let le_max = !EXACT
+                || matches!(
+                    plane.t_cmp_f64(t_max.lane(i).to_f64()),
+                    Some(Ordering::Less | Ordering::Equal)
+                );
             if ge_min && le_max {
                 keep |= 1 << i;
                 // The exact tier's lanes, and lanes whose filter values over- or underflowed,
