@@ -227,4 +227,7 @@ fn watertight_keeps_the_thin_triangle_hit_of_issue_11() {
             "packets agree"
         );
     }
+    // The exact tier hits too, with the oracle's answer.
+    let e = intersect::<f32, Exact>(&ray, &tri).expect("the exact tier hits");
+    assert!((e.t - 0.9995).abs() < 0.05, "{e:?}");
 }

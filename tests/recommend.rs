@@ -4,7 +4,7 @@
 
 use octoray::glam::Vec3;
 use octoray::recommend::{recommend, SceneSpec, TierChoice};
-use octoray::{intersect, MollerTrumbore, Watertight};
+use octoray::{intersect, Exact, MollerTrumbore, Watertight};
 use octoray::{Hit, PackedTriangle, Ray, VertexTriangle};
 
 fn run(tier: TierChoice, ray: &Ray, tri: [Vec3; 3]) -> Option<Hit> {
@@ -15,6 +15,7 @@ fn run(tier: TierChoice, ray: &Ray, tri: [Vec3; 3]) -> Option<Hit> {
         TierChoice::Watertight => intersect::<f32, Watertight>(ray, &verts),
         TierChoice::F64 => intersect::<f64, MollerTrumbore>(ray, &packed),
         TierChoice::WatertightF64 => intersect::<f64, Watertight>(ray, &verts),
+        TierChoice::Exact => intersect::<f32, Exact>(ray, &verts),
     }
 }
 
@@ -158,10 +159,41 @@ fn invalid_scene_descriptions_are_errors() {
             "{f}"
         );
     }
-    for b in [0.0, -1.0, f32::NAN, f32::INFINITY] {
+    for b in [-0.5, -1.0, f32::NAN, f32::INFINITY] {
         let mut s = good;
         s.error_budget = b;
         assert!(matches!(recommend(&s), Err(SpecError::BadBudget(_))), "{b}");
         assert!(recommend(&s).unwrap_err().to_string().contains("budget"));
+    }
+}
+
+#[test]
+fn no_error_budget_gets_the_exact_tier_at_every_scale() {
+    // "Closed meshes, no error budget to spend" (issue 11): the exact tier, near the origin and
+    // far from it, and it hits each scene's extreme case, including coordinates beyond the
+    // watertight tier's range (1e20) and below f32's products (1e-25).
+    for (at, size) in [
+        (0.0f32, 1.0f32),
+        (1e6, 8.0),
+        (0.0, 1e-25),
+        (0.0, 1e20),
+        (1e3, 1e-2),
+    ] {
+        for closed in [true, false] {
+            let (ray, tri, mut spec) = case(at, size);
+            spec.closed_meshes = closed;
+            spec.error_budget = 0.0;
+            let r = recommend(&spec).unwrap();
+            assert_eq!(r.tier, TierChoice::Exact, "{r}");
+            assert!(!r.meets_budget && r.to_string().contains("exact"), "{r}");
+            let h = run(r.tier, &ray, tri).unwrap_or_else(|| panic!("{r}: missed at {at:e}"));
+            // The exact t of the (rounded) f32 inputs: 1 where the coordinates are exact.
+            let exact = octoray_testkit::oracle::triangle(&ray, tri).t;
+            assert!(
+                (f64::from(h.t) - exact).abs() <= 1e-6 * exact,
+                "{r}: t {}",
+                h.t
+            );
+        }
     }
 }

@@ -17,6 +17,10 @@
 //! - Closed meshes that must not leak (refraction, inside/outside tests) need the watertight tier
 //!   whatever the budget: the standard tier lets 1.540 % (report: `standard, 8 lanes`, crack
 //!   rate) of the trade report's crack rays through.
+//! - An error budget of zero (no error to spend on decisions) gets the exact tier: every hit/miss
+//!   and range decision equals the exact answer for the f32 inputs, for every finite input
+//!   (watertight by construction); reported positions still carry the f32 bound, so the report
+//!   says the budget is not met.
 
 //!
 //! ```
@@ -63,7 +67,8 @@ pub struct SceneSpec {
     pub bounds_max: Vec3,
     /// The smallest feature that must be hit reliably (edge length, sphere radius).
     pub smallest_feature: f32,
-    /// The largest acceptable error of a hit position, in scene units.
+    /// The largest acceptable error of a hit position, in scene units; `0.0`: no error may be
+    /// spent on hit/miss decisions (the exact tier).
     pub error_budget: f32,
     /// The scene has closed meshes that must not leak rays.
     pub closed_meshes: bool,
@@ -80,6 +85,8 @@ pub enum TierChoice {
     F64,
     /// The watertight kernel at f64 lanes: closed meshes that need f64.
     WatertightF64,
+    /// [`crate::kernels::Exact`]: no error budget to spend (hit/miss decided exactly).
+    Exact,
 }
 
 impl TierChoice {
@@ -90,6 +97,7 @@ impl TierChoice {
             Self::Watertight => "watertight",
             Self::F64 => "f64",
             Self::WatertightF64 => "watertight-f64",
+            Self::Exact => "exact",
         }
     }
 }
@@ -122,6 +130,7 @@ enum Why {
     F32Error,
     NoneFits,
     InputQuantization,
+    NoBudget,
 }
 
 const EPS32: f32 = f32::EPSILON / 2.0;
@@ -136,7 +145,7 @@ pub enum SpecError {
     InvertedBounds,
     /// The smallest feature is not finite and `> 0`.
     BadFeature(f32),
-    /// The error budget is not finite and `> 0`.
+    /// The error budget is not finite and `≥ 0`.
     BadBudget(f32),
 }
 
@@ -148,7 +157,7 @@ impl fmt::Display for SpecError {
             Self::BadFeature(x) => {
                 write!(f, "the smallest feature must be finite and > 0, not {x}")
             }
-            Self::BadBudget(x) => write!(f, "the error budget must be finite and > 0, not {x}"),
+            Self::BadBudget(x) => write!(f, "the error budget must be finite and >= 0, not {x}"),
         }
     }
 }
@@ -156,7 +165,8 @@ impl fmt::Display for SpecError {
 impl core::error::Error for SpecError {}
 
 /// Recommends a tier for `spec`, or says why the description is not a scene (NaN or infinite
-/// bounds, inverted bounds, a smallest feature or budget that is not finite and positive).
+/// bounds, inverted bounds, a smallest feature that is not finite and positive, a budget that is
+/// not finite and non-negative).
 pub fn recommend(spec: &SceneSpec) -> Result<Recommendation, SpecError> {
     if !(spec.bounds_min.is_finite() && spec.bounds_max.is_finite()) {
         return Err(SpecError::NonFiniteBounds);
@@ -168,7 +178,7 @@ pub fn recommend(spec: &SceneSpec) -> Result<Recommendation, SpecError> {
     if !feature_ok {
         return Err(SpecError::BadFeature(spec.smallest_feature));
     }
-    if !(spec.error_budget > 0.0 && spec.error_budget.is_finite()) {
+    if !(spec.error_budget >= 0.0 && spec.error_budget.is_finite()) {
         return Err(SpecError::BadBudget(spec.error_budget));
     }
     let extent = spec
@@ -193,7 +203,9 @@ pub fn recommend(spec: &SceneSpec) -> Result<Recommendation, SpecError> {
     } else {
         TierChoice::F64
     };
-    let (tier, meets, why) = if !representable {
+    let (tier, meets, why) = if spec.error_budget == 0.0 {
+        (TierChoice::Exact, false, Why::NoBudget)
+    } else if !representable {
         (f64_tier, false, Why::InputQuantization)
     } else if f32_fits && standard_range && !spec.closed_meshes {
         (TierChoice::Standard, true, Why::StandardFits)
@@ -252,6 +264,11 @@ impl fmt::Display for Recommendation {
                 f,
                 "no tier meets the budget: features of {:.2e} are narrower than 16 ulps of coordinates of {:.2e}, so the f32 inputs have already lost their shape; translate the scene towards the origin (f64 is the most accurate on what is left)",
                 self.smallest_feature, self.extent
+            ),
+            Why::NoBudget => write!(
+                f,
+                "no error budget to spend: the exact tier decides every hit/miss exactly for the f32 inputs (watertight by construction); reported positions still carry the f32 error bound {:.2e} at scale {:.2e}",
+                self.f32_error, self.scale
             ),
             Why::NoneFits => write!(
                 f,

@@ -5,7 +5,7 @@ use crate::scene::{Scene, TierArg};
 use octoray::glam::Vec3;
 use std::path::PathBuf;
 
-pub const USAGE: &str = "usage: render [--size WxH] [--output PATH] [--tier auto|standard|watertight|f64|watertight-f64] [--lanes 4|8|16] [--obj PATH] [--camera X,Y,Z] [--look-at X,Y,Z] [--fov DEGREES]\n  --obj alone fits the mesh into the default scene; with --camera the mesh stays where it is (no ground quad) and the camera looks from X,Y,Z";
+pub const USAGE: &str = "usage: render [--size WxH] [--output PATH] [--tier auto|standard|watertight|exact|f64|watertight-f64] [--lanes 4|8|16] [--obj PATH] [--camera X,Y,Z] [--look-at X,Y,Z] [--fov DEGREES]\n  --obj alone fits the mesh into the default scene; with --camera the mesh stays where it is (no ground quad) and the camera looks from X,Y,Z";
 
 pub struct Options {
     pub width: u32,
@@ -73,7 +73,7 @@ pub fn parse(args: &[String]) -> Result<Options, String> {
             "--tier" => {
                 let v = value("--tier")?;
                 o.tier = TierArg::parse(&v).ok_or(format!(
-                    "--tier: unknown tier '{v}' (auto, standard, watertight, f64, watertight-f64)"
+                    "--tier: unknown tier '{v}' (auto, standard, watertight, exact, f64, watertight-f64)"
                 ))?;
             }
             "--lanes" => {

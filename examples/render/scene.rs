@@ -5,7 +5,7 @@
 use octoray::bvh::{BuildStats, Bvh8};
 use octoray::glam::{DVec3, Vec3};
 use octoray::ingest;
-use octoray::kernels::{Kernel, MollerTrumbore, StableSphere, Watertight};
+use octoray::kernels::{Exact, Kernel, MollerTrumbore, StableSphere, Watertight};
 use octoray::packet::{self, scene as bvh};
 use octoray::packet::{f32x16, f32x4, f32x8};
 use octoray::prim::Primitive;
@@ -25,6 +25,7 @@ pub enum TierArg {
     Watertight,
     F64,
     WatertightF64,
+    Exact,
 }
 
 impl TierArg {
@@ -35,6 +36,7 @@ impl TierArg {
             "watertight" => Self::Watertight,
             "f64" => Self::F64,
             "watertight-f64" => Self::WatertightF64,
+            "exact" => Self::Exact,
             _ => return None,
         })
     }
@@ -45,6 +47,7 @@ impl TierArg {
             Self::Watertight => "watertight",
             Self::F64 => "f64",
             Self::WatertightF64 => "watertight-f64",
+            Self::Exact => "exact",
         }
     }
 }
@@ -457,6 +460,15 @@ pub fn render(
         (TierArg::Watertight, 16) => {
             render_with::<f32x16, Watertight>(scene, &prims, &prims.verts, w, h, progress)
         }
+        (TierArg::Exact, 4) => {
+            render_with::<f32x4, Exact>(scene, &prims, &prims.verts, w, h, progress)
+        }
+        (TierArg::Exact, 8) => {
+            render_with::<f32x8, Exact>(scene, &prims, &prims.verts, w, h, progress)
+        }
+        (TierArg::Exact, 16) => {
+            render_with::<f32x16, Exact>(scene, &prims, &prims.verts, w, h, progress)
+        }
         (TierArg::F64, 4) => {
             render_with::<f64x4, MollerTrumbore>(scene, &prims, &prims.packed, w, h, progress)
         }
@@ -494,6 +506,7 @@ pub fn resolve_tier(
                 TierChoice::Watertight => TierArg::Watertight,
                 TierChoice::F64 => TierArg::F64,
                 TierChoice::WatertightF64 => TierArg::WatertightF64,
+                TierChoice::Exact => TierArg::Exact,
             };
             let f64_tier = matches!(t, TierArg::F64 | TierArg::WatertightF64);
             if f64_tier && lanes == 16 {
