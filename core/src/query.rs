@@ -84,8 +84,8 @@ impl<L: Lanes> ClosestHit<L> {
 }
 
 /// Closest hit per lane with kernel `K`. The kernel sees `t_max` lowered to the best `t` so far,
-/// loosened by 2⁻²⁰ relative (as the BVH does, so both find the same hits: a kernel that decides
-/// the range exactly never rejects a hit whose rounded `t` is nearer); a hit replaces the best one
+/// loosened by 2⁻²⁰ relative, as the BVH does (a kernel that decides `t_max` exactly,
+/// [`Kernel::EXACT_T_MAX`], sees the caller's `t_max` throughout); a hit replaces the best one
 /// only when its `t` is strictly nearer, so ties in `t` go to the lower index.
 ///
 /// # Panics
@@ -109,7 +109,9 @@ pub fn closest<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> 
             scale = L::select(m, h.scale, scale);
             best.prim = L::select_index(m, L::splat_index(i as u32), best.prim);
             best.mask = best.mask | m;
-            ray.t_max = L::select(m, loosen(best.t, t_max), ray.t_max);
+            if !K::EXACT_T_MAX {
+                ray.t_max = L::select(m, loosen(best.t, t_max), ray.t_max);
+            }
         }
     }
     // The barycentrics were carried as numerators: one division for the winner.
@@ -148,7 +150,9 @@ pub fn closest_t<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -
         let h = K::intersect(&ray, &pre, prim);
         let m = h.mask & (!found | h.t.lt(t));
         t = L::select(m, h.t, t);
-        ray.t_max = L::select(m, loosen(t, t_max), ray.t_max);
+        if !K::EXACT_T_MAX {
+            ray.t_max = L::select(m, loosen(t, t_max), ray.t_max);
+        }
         found = found | h.mask;
     }
     (found, t)

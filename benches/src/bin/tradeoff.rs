@@ -11,7 +11,9 @@
 use octoray_testkit as testkit;
 
 use glam::Vec3;
-use octoray::{Hit, Ray};
+use octoray::kernels::triangle::exact::fallback_lanes;
+use octoray::kernels::{Exact, Watertight};
+use octoray::{intersect, Hit, Ray, RayLanes, VertexTriangle};
 use octoray_benches::peers::TrianglePeer;
 use octoray_benches::report::{self, Report};
 use octoray_benches::speed::{entry, Prepared};
@@ -23,10 +25,10 @@ use std::hint::black_box;
 use std::process::Command;
 use std::time::Instant;
 use testkit::accuracy::{
-    edge_cases, grazing_cases, measure_triangles_with, random_cases, translated_cases, Stats,
-    TriCase, TriTier,
+    edge_cases, grazing_cases, measure_triangles_with, random_cases, thin_cases, translated_cases,
+    Stats, TriCase, TriTier,
 };
-use testkit::mesh::{escapes_by, Mesh};
+use testkit::mesh::{escapes_by, thin_crack_meshes, Mesh};
 use testkit::Rng;
 
 /// The workload every speed figure uses: 1024 rays × 64 triangles, ~50 % of tests hit.
@@ -90,6 +92,16 @@ fn rows() -> Vec<Row> {
             accuracy: Ours(TriTier::Watertight),
         },
         Row {
+            name: "exact, 8 lanes",
+            entry: "exact x8",
+            accuracy: Ours(TriTier::Exact),
+        },
+        Row {
+            name: "exact, 16 lanes",
+            entry: "exact x16",
+            accuracy: Ours(TriTier::Exact),
+        },
+        Row {
             name: "f64, 4 lanes",
             entry: "f64 x4",
             accuracy: Ours(TriTier::F64),
@@ -140,12 +152,25 @@ impl Row {
 
 fn flags() -> &'static str {
     if cfg!(target_feature = "avx512f") {
-        "RUSTFLAGS=\"-C target-cpu=native\" (AVX-512, FMA)"
+        "-C target-cpu=native (.cargo/config.toml): AVX-512, FMA"
     } else if cfg!(target_feature = "avx2") {
-        "AVX2"
+        "-C target-cpu=native (.cargo/config.toml): AVX2, FMA, no AVX-512"
     } else {
-        "default x86-64 build (SSE2)"
+        "portable x86-64 baseline (SSE2)"
     }
+}
+
+/// The CPU's model name from /proc/cpuinfo, and the core count.
+fn machine() -> String {
+    let info = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
+    let model = info
+        .lines()
+        .find(|l| l.starts_with("model name"))
+        .and_then(|l| l.split(':').nth(1))
+        .map_or("unknown CPU", str::trim)
+        .to_string();
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    format!("{model}, {cores} cores")
 }
 
 /// Best-of-7 wall-clock ns per ray-triangle test.
@@ -196,12 +221,80 @@ fn cycles_per_test(e: &str, tests: u64) -> Option<f64> {
     Some((full - base) / (reps as f64 * tests as f64))
 }
 
-fn accuracy(row: &Row) -> (Stats, f64) {
+/// The accuracy cases: random, aimed at edges and vertices, grazing, translated.
+fn accuracy_cases() -> Vec<TriCase> {
     let mut cases = random_cases(1, 5000);
     cases.extend(edge_cases(2, 5000));
     cases.extend(grazing_cases(3, 2500, 1e-3));
     cases.extend(grazing_cases(4, 2500, 1e-5));
     cases.extend(translated_cases(5, 5000, 1e4, 1.0));
+    cases
+}
+
+/// Escapes from inside issue 11's closed meshes of long thin triangles, per cent.
+fn thin_crack_rate(row: &Row) -> f64 {
+    let (mut rays_total, mut escapes) = (0, 0);
+    for (_, mesh, rays) in thin_crack_meshes(2_000) {
+        escapes += escapes_by(&rays, &mesh.triangles(), |r, t| row.test(r, t).is_some());
+        rays_total += rays.len();
+    }
+    100.0 * escapes as f64 / rays_total as f64
+}
+
+/// The exact tier by ray family: the share of tests its filter leaves to exact arithmetic, and
+/// its scalar cost next to the watertight tier's on the same tests.
+fn exact_by_family() -> String {
+    let families: Vec<(&str, Vec<TriCase>)> = vec![
+        ("random", random_cases(11, 20_000)),
+        ("aimed at vertices and edges", edge_cases(12, 20_000)),
+        ("grazing 1e-3 rad", grazing_cases(13, 20_000, 1e-3)),
+        ("grazing 1e-5 rad", grazing_cases(14, 20_000, 1e-5)),
+        ("thin, aspect 1e3", thin_cases(15, 20_000, 1e3)),
+        ("translated 1e4", translated_cases(16, 20_000, 1e4, 1.0)),
+    ];
+    let mut md = String::new();
+    writeln!(md, "| ray family | tests | decided by exact arithmetic | watertight ns/test (scalar) | exact ns/test (scalar) | exact / watertight |").unwrap();
+    writeln!(md, "|---|---|---|---|---|---|").unwrap();
+    for (name, cases) in families {
+        let tris: Vec<VertexTriangle> = cases
+            .iter()
+            .map(|c| VertexTriangle::new(c.v[0], c.v[1], c.v[2]))
+            .collect();
+        let fallbacks = cases
+            .iter()
+            .zip(&tris)
+            .filter(|(c, t)| fallback_lanes::<f32>(&RayLanes::single(&c.ray), t))
+            .count();
+        let time = |f: &dyn Fn(&Ray, &VertexTriangle) -> bool| {
+            (0..5)
+                .map(|_| {
+                    let t = Instant::now();
+                    let hits = cases
+                        .iter()
+                        .zip(&tris)
+                        .filter(|(c, tri)| f(black_box(&c.ray), black_box(tri)))
+                        .count();
+                    black_box(hits);
+                    t.elapsed().as_secs_f64() * 1e9 / cases.len() as f64
+                })
+                .fold(f64::INFINITY, f64::min)
+        };
+        let wt = time(&|r, t| intersect::<f32, Watertight>(r, t).is_some());
+        let ex = time(&|r, t| intersect::<f32, Exact>(r, t).is_some());
+        writeln!(
+            md,
+            "| {name} | {} | {:.3} % | {wt:.1} | {ex:.1} | {:.2} |",
+            cases.len(),
+            100.0 * fallbacks as f64 / cases.len() as f64,
+            ex / wt
+        )
+        .unwrap();
+    }
+    md
+}
+
+fn accuracy(row: &Row) -> (Stats, f64) {
+    let cases = accuracy_cases();
     let stats = measure_triangles_with(
         |c| {
             row.test(&c.ray, c.v).map(|t| Hit {
@@ -248,6 +341,7 @@ struct Result {
     cycles: Option<(f64, bool)>,
     stats: Stats,
     crack: f64,
+    thin: f64,
 }
 
 /// A point of the chart, read from the report (so the chart always shows what the table says).
@@ -495,8 +589,9 @@ fn main() {
             .map(|c| (c, true))
             .or_else(|| nominal_ghz().map(|g| (ns * g, false)));
         let (stats, crack) = accuracy(&row);
+        let thin = thin_crack_rate(&row);
         eprintln!(
-            "{:<40} {ns:6.3} ns/test  cycles {cycles:?}  wrong {}  crack {crack:.3} %",
+            "{:<40} {ns:6.3} ns/test  cycles {cycles:?}  wrong {}  crack {crack:.3} %  thin {thin:.3} %",
             row.name, stats.wrong
         );
         results.push(Result {
@@ -505,19 +600,27 @@ fn main() {
             cycles,
             stats,
             crack,
+            thin,
         });
     }
     let mut md = String::new();
-    writeln!(md, "Machine: AMD EPYC (Zen 5), 2 cores; build: {}; workload: 1024 rays × 64 triangles, ~50 % of tests hit,", flags()).unwrap();
+    writeln!(
+        md,
+        "Machine: {}; build: {}; workload: 1024 rays × 64 triangles, ~50 % of tests hit,",
+        machine(),
+        flags()
+    )
+    .unwrap();
     writeln!(md, "closest hit. Accuracy over 20 000 cases (random, aimed at edges and vertices, grazing 1e-3 and 1e-5 rad,").unwrap();
-    writeln!(md, "translated 1e4) against the exact oracle; cracks: 25 000 rays from inside two closed jittered meshes.").unwrap();
+    writeln!(md, "translated 1e4) against the exact oracle; cracks: 25 000 rays from inside two closed jittered meshes;").unwrap();
+    writeln!(md, "thin cracks: 10 000 rays from inside five closed meshes of long thin triangles (issue 11's families).").unwrap();
     writeln!(md, "Regenerate: `cargo run --release -p octoray-benches --bin tradeoff` (with the RUSTFLAGS above).").unwrap();
     if results.iter().any(|r| matches!(r.cycles, Some((_, false)))) {
         writeln!(md, "\"est.\": perf's cycle counter is not exposed on this machine; cycles = ns × the nominal {:.2} GHz.", nominal_ghz().unwrap_or(0.0)).unwrap();
     }
     writeln!(md).unwrap();
-    writeln!(md, "| kernel | ns/test | cycles/test | wrong hit/miss (outside margin) | in margin | t error ulp p50 / p99 / max | crack rate |").unwrap();
-    writeln!(md, "|---|---|---|---|---|---|---|").unwrap();
+    writeln!(md, "| kernel | ns/test | cycles/test | wrong hit/miss (outside margin) | in margin | t error ulp p50 / p99 / max | crack rate | thin crack rate |").unwrap();
+    writeln!(md, "|---|---|---|---|---|---|---|---|").unwrap();
     for r in &results {
         let cyc = match r.cycles {
             Some((c, true)) => format!("{c:.2}"),
@@ -526,7 +629,7 @@ fn main() {
         };
         writeln!(
             md,
-            "| {} | {:.3} | {} | {} | {} | {} / {} / {} | {:.3} % |",
+            "| {} | {:.3} | {} | {} | {} | {} / {} / {} | {:.3} % | {:.3} % |",
             r.name,
             r.ns,
             cyc,
@@ -535,10 +638,15 @@ fn main() {
             r.stats.percentile(0.5),
             r.stats.percentile(0.99),
             r.stats.max_ulps(),
-            r.crack
+            r.crack,
+            r.thin
         )
         .unwrap();
     }
+    writeln!(md).unwrap();
+    writeln!(md, "The exact tier by ray family (20 000 tests each, one ray and one triangle per call, best of 5):").unwrap();
+    writeln!(md).unwrap();
+    md.push_str(&exact_by_family());
     let dir = concat!(env!("CARGO_MANIFEST_DIR"));
     std::fs::write(format!("{dir}/tradeoff.md"), &md).expect("write tradeoff.md");
     let report = Report::parse(&md).expect("the report just written parses");

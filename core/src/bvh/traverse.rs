@@ -131,7 +131,11 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
             let prims = &bvh.prims[first..first + e.count as usize];
             for (c, chunk) in prims.chunks(L::LANES).enumerate() {
                 ray.active = L::first_lanes(chunk.len());
-                ray.t_max = L::splat_scalar(bound(t_max, best));
+                ray.t_max = if K::EXACT_T_MAX {
+                    rl.t_max
+                } else {
+                    L::splat_scalar(bound(t_max, best))
+                };
                 let h = K::intersect_lanes(&ray, pre, &<K::Prim as Primitive>::gather(chunk));
                 let mut bits = h.mask.bitmask();
                 if ANY && bits != 0 {
@@ -332,7 +336,7 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
             let first = e.child as usize;
             ray.active = live;
             for k in first..first + e.count as usize {
-                ray.t_max = cull;
+                ray.t_max = if K::EXACT_T_MAX { rays.t_max } else { cull };
                 let h = K::intersect(&ray, &pre, &bvh.prims[k]);
                 if h.mask.none() {
                     continue;

@@ -45,6 +45,11 @@ pub trait Kernel<L: Lanes> {
     type Prim: Primitive;
     /// Per-ray precomputation, made once per query (for example the watertight shear).
     type Pre: Copy;
+    /// The kernel decides `t ≤ t_max` exactly, not on its rounded `t`. Closest-hit queries then
+    /// give it the caller's `t_max` and order its hits by the rounded `t` themselves: lowering
+    /// `t_max` to an earlier hit's rounded `t` would cut off a hit whose rounded `t` is nearer
+    /// but whose exact `t` is not, and the answer would depend on the order of the tests.
+    const EXACT_T_MAX: bool = false;
     /// Precomputes what depends on the ray only (not on `t_min`/`t_max`).
     fn prepare(ray: &RayLanes<L>) -> Self::Pre;
     /// Tests lane `i` of `ray` against lane `i` of `prim`.
@@ -152,6 +157,7 @@ impl<L: Lanes, const CULL: bool> Kernel<L> for Watertight<CULL> {
 impl<L: Lanes, const CULL: bool> Kernel<L> for Exact<CULL> {
     type Prim = VertexTriangle;
     type Pre = crate::kernels::triangle::watertight::ShearedRay<L>;
+    const EXACT_T_MAX: bool = true;
     #[inline(always)]
     fn prepare(ray: &RayLanes<L>) -> Self::Pre {
         crate::kernels::triangle::watertight::ShearedRay::new(ray)

@@ -162,6 +162,173 @@ impl ExactPlane {
     }
 }
 
+/// What [`resolve`] answers for a hit: `t` and the barycentrics of `v1`, `v2`, to f64 (relative
+/// error below 2⁻³² for `t`, so it rounds to f32 within one ulp of the exact value).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Resolved {
+    /// Ray parameter.
+    pub t: f64,
+    /// Barycentric weight of `v1`.
+    pub b1: f64,
+    /// Barycentric weight of `v2`.
+    pub b2: f64,
+}
+
+/// Decides one ray against one triangle exactly: with `edges`, that the line passes inside (and,
+/// with `cull`, meets a front face); always that it is not parallel to the plane and that
+/// `t ≥ t_min`; with `check_max`, that `t ≤ t_max`. `None` is a miss (also for a NaN bound or a
+/// non-finite input). First in f64 with certified error bounds (a few dozen flops; decides all but
+/// exact ties), then, where f64 cannot decide, with [`ExactPlane`].
+#[allow(clippy::too_many_arguments)]
+pub fn resolve(
+    o: P,
+    d: P,
+    v: [P; 3],
+    t_min: f64,
+    t_max: f64,
+    edges: bool,
+    cull: bool,
+    check_max: bool,
+) -> Option<Resolved> {
+    if t_min.is_nan() || t_max.is_nan() {
+        return None;
+    }
+    if let Some(answer) = resolve_f64(o, d, v, t_min, t_max, edges, cull, check_max) {
+        return answer;
+    }
+    let plane = ExactPlane::new(o, d, v)?;
+    if plane.parallel() || edges && !(plane.inside() && (!cull || plane.front())) {
+        return None;
+    }
+    let ge_min = matches!(
+        plane.t_cmp_f64(t_min),
+        Some(Ordering::Greater | Ordering::Equal)
+    );
+    let le_max = !check_max
+        || matches!(
+            plane.t_cmp_f64(t_max),
+            Some(Ordering::Less | Ordering::Equal)
+        );
+    if !(ge_min && le_max) {
+        return None;
+    }
+    let (b1, b2) = plane.barycentrics();
+    Some(Resolved {
+        t: plane.t(),
+        b1,
+        b2,
+    })
+}
+
+/// `det[r0, r1, r2] = r0·(r1 × r2)` in f64 and its permanent `|r0|·(|r1| × |r2|)` (the sum of
+/// the absolute values of its six terms).
+fn det_f64(r0: [f64; 3], r1: [f64; 3], r2: [f64; 3]) -> (f64, f64) {
+    let c = [
+        r1[1] * r2[2] - r1[2] * r2[1],
+        r1[2] * r2[0] - r1[0] * r2[2],
+        r1[0] * r2[1] - r1[1] * r2[0],
+    ];
+    let p = [
+        (r1[1] * r2[2]).abs() + (r1[2] * r2[1]).abs(),
+        (r1[2] * r2[0]).abs() + (r1[0] * r2[2]).abs(),
+        (r1[0] * r2[1]).abs() + (r1[1] * r2[0]).abs(),
+    ];
+    (
+        r0[0] * c[0] + r0[1] * c[1] + r0[2] * c[2],
+        r0[0].abs() * p[0] + r0[1].abs() * p[1] + r0[2].abs() * p[2],
+    )
+}
+
+/// [`resolve`]'s f64 stage: `Some(answer)` where every decision is certified, `None` where one
+/// is not. f32 inputs keep every product of three far inside f64's range (1e-135 … 1e115), so
+/// the only errors are roundings: each difference `v − o` once, each determinant term at most
+/// seven more times, so `|ŵ − w| ≤ γ₈·perm` (16u·perm is used, u = 2⁻⁵³, which also covers the
+/// rounding of the permanent); `D̂ = Σŵᵢ` adds `3u·Σ|ŵᵢ|`; `N̂ − b·D̂` adds `3u·(|N̂| + |b·D̂|)`.
+#[allow(clippy::too_many_arguments)]
+fn resolve_f64(
+    o: P,
+    d: P,
+    v: [P; 3],
+    t_min: f64,
+    t_max: f64,
+    edges: bool,
+    cull: bool,
+    check_max: bool,
+) -> Option<Option<Resolved>> {
+    let u = f64::EPSILON / 2.0;
+    let wide = |p: P| p.map(f64::from);
+    let rel = |p: P| {
+        let (p, o) = (wide(p), wide(o));
+        [p[0] - o[0], p[1] - o[1], p[2] - o[2]]
+    };
+    let (a, dd) = ([rel(v[0]), rel(v[1]), rel(v[2])], wide(d));
+    let mut w = [(0.0, 0.0); 3];
+    for (i, wi) in w.iter_mut().enumerate() {
+        let (val, perm) = det_f64(dd, a[(i + 1) % 3], a[(i + 2) % 3]);
+        *wi = (val, 16.0 * u * perm);
+    }
+    let (num, perm_n) = det_f64(a[0], a[1], a[2]);
+    let err_n = 16.0 * u * perm_n;
+    let den = w[0].0 + w[1].0 + w[2].0;
+    let err_d = w[0].1 + w[1].1 + w[2].1 + 3.0 * u * (w[0].0.abs() + w[1].0.abs() + w[2].0.abs());
+    if !(num.is_finite() && den.is_finite() && err_n.is_finite() && err_d.is_finite()) {
+        return None;
+    }
+    if den.abs() <= err_d {
+        return None;
+    }
+    if edges {
+        let pos = w.iter().any(|&(x, e)| x > e);
+        let neg = w.iter().any(|&(x, e)| x < -e);
+        if pos && neg {
+            return Some(None);
+        }
+        if w.iter().any(|&(x, e)| x.abs() <= e) {
+            return None;
+        }
+        if cull && den > 0.0 {
+            return Some(None);
+        }
+    }
+    // sign(t − b) = sign(N − b·D)·sign(D), certified or None.
+    let cmp = |b: f64| -> Option<Ordering> {
+        if b.is_infinite() {
+            return Some(if b > 0.0 {
+                Ordering::Less
+            } else {
+                Ordering::Greater
+            });
+        }
+        let bd = b * den;
+        let x = num - bd;
+        let err = err_n + b.abs() * err_d + 3.0 * u * (num.abs() + bd.abs());
+        if !(x.abs() > err) {
+            return None;
+        }
+        Some(if (x > 0.0) == (den > 0.0) {
+            Ordering::Greater
+        } else {
+            Ordering::Less
+        })
+    };
+    if cmp(t_min)? == Ordering::Less {
+        return Some(None);
+    }
+    if check_max && cmp(t_max)? == Ordering::Greater {
+        return Some(None);
+    }
+    // t to 2⁻³² relative, else the exact stage (t near 0, or N and D barely certified).
+    let t_rel = 1.01 * (err_n / num.abs() + err_d / den.abs()) + 2.0 * u;
+    if !(t_rel <= 1.0 / 4_294_967_296.0) {
+        return None;
+    }
+    Some(Some(Resolved {
+        t: num / den,
+        b1: w[1].0 / den,
+        b2: w[2].0 / den,
+    }))
+}
+
 fn next_up(x: f32) -> f32 {
     match x {
         _ if x.is_nan() || x == f32::INFINITY => x,

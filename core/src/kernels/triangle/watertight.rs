@@ -9,20 +9,20 @@
 //!   triangles around it. Tested with zero escapes over closed jittered meshes.
 //! - Bit-identical across `f32` and `f32x4/x8/x16` and across builds (proptested), like the
 //!   standard tier.
-//! - A hit is reported only when it is provably in front of the origin: `t > δt`, a conservative
-//!   bound on the rounding error of `t` (after pbrt-v4 §6.8.7, with the shear term bounded by the
-//!   shear product itself so it holds for directions of any length), or every vertex provably in
-//!   front (t is the barycentric average of the vertices' depths, which keeps small distant
-//!   triangles that δt alone would reject), or, where neither holds, the plane distance
-//!   recomputed in f64 from the same inputs with its own error bound (lane by lane, rare). A
-//!   surface "just behind" the origin within rounding is never reported (tested against the exact
-//!   oracle). What is left of the trade: rays within ~1e-7 rad of grazing a triangle that spans the
-//!   origin's depth, where even f64 cannot prove the sign (accuracy report, disagreements inside
-//!   the margin: 2.7 % of hits at 1e-5 rad, was 28 % before the f64 step; 56 % at 1e-7 rad, was
-//!   99 %). Issue 11's thin-triangle reproducer is a regression test (`tests/hostile.rs`).
+//! - **Range:** a hit is reported iff the edge test passes, the *exact* `t` is `≥ t_min`, and
+//!   the rounded `t` is `≤ t_max`. The `t_min` side is certified without a division (the sign
+//!   of `N − t_min·D` against its error bound, or every vertex's depth against `t_min`, which
+//!   keeps small distant triangles) and, on the lanes neither certificate decides, decided with
+//!   exact arithmetic ([`crate::kernels::triangle::exact::ExactPlane`], lane by lane, rare): a
+//!   hit just in front of `t_min` is never lost, one just behind is never reported, for every
+//!   finite input (oracle-tested; issue 11's thin-triangle reproducer is `tests/hostile.rs`).
+//!   The `t_max` side compares the rounded `t`, as the standard tier does and as closest-hit
+//!   queries order hits; the exact tier ([`crate::kernels::Exact`]) decides both sides exactly.
 //! - **t error bound:** the same form as the standard tier,
 //!   `|t − t_exact| ≤ 8·ε·max(|t|, reach)/(|cos θ|·sin α)`; measured at most 2.7 (p50 0 ulp, p99 11 ulp on
-//!   random cases). Hits have finite `t ∈ [t_min, t_max]`.
+//!   random cases). Hits have finite `t ∈ [t_min, t_max]` (the rounded `t` is clamped into the
+//!   range the exact one was found in). Where the kernel's products leave `[2⁻¹⁰⁰, 2¹⁰⁰]`, `t`
+//!   is the exact `t` rounded instead.
 //! - Zero escapes over 10⁵ rays aimed at the vertices and edges of closed jittered meshes centred
 //!   at 0…1e6 (`tests/watertight.rs`); in the trade report 0.000 % (report: `watertight, 8
 //!   lanes`, crack rate) escape where the standard tier lets 1.540 % (report: `standard, 8
@@ -32,21 +32,19 @@
 //! - The products are of origin-relative coordinates with z normalised by the shear, so they
 //!   overflow only when |v − o|² nears f32::MAX (~1e19), far later than the standard tier's
 //!   ~7e12; overflow is a miss, never an inf/NaN hit. Use the f64 instantiation beyond that.
-//! - Underflow: the shear scales depths by `1/d[kz]`, and `t`'s numerator is a product of two
-//!   sheared extents and a scaled depth, of size `ρ²·t` with `ρ` the vertices' largest distance
-//!   from the ray's line. Where that falls below ~1e-30 (huge directions: t tiny; or tiny
-//!   triangles), products go subnormal and the t bound above no longer holds: the fuzz harness saw
-//!   t = 0 reported for exact t of 3e-36 and 1.7e-18, and a 0.4 % t error at t = 1.3e-28.
-//!   Normalise directions (or keep `ρ²·t ≥ 1e-30`). Scaling the depths after the division
-//!   instead of before would remove most of this; not done yet (it changes the δt proof).
-
+//! - Underflow: the edge functions are products of two sheared extents; where those go subnormal
+//!   (triangles and distances below ~1e-19 from the origin's line) their computed signs can be
+//!   wrong and a hit can be missed (`tests/extremes.rs` documents 1e-30). The range and `t` no
+//!   longer suffer from it: lanes whose products leave `[2⁻¹⁰⁰, 2¹⁰⁰]` are decided exactly (the
+//!   fuzz harness had seen `t = 0` reported for an exact `t` of 3e-36). For such scenes use the
+//!   exact tier, which decides the edges exactly too.
+//!
 use crate::hit::LanesHit;
-use crate::kernels::triangle::exact::ExactPlane;
+use crate::kernels::triangle::exact::resolve;
 use crate::lanes::V3;
 use crate::lanes::{LaneMask, Lanes, Scalar};
 use crate::prim::{Primitive, VertexLanes};
 use crate::prim::{RayLanes, VertexTriangle};
-use core::cmp::Ordering;
 
 /// One axis per lane, as two masks (`x`, `y`; neither set means `z`).
 #[derive(Clone, Copy, Debug)]
@@ -366,39 +364,31 @@ pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>
             let i = bits.trailing_zeros() as usize;
             bits &= bits - 1;
             let f = |p: V3<L>| p.lane(i).map(Scalar::to_f32);
-            let Some(plane) =
-                ExactPlane::new(f(ray.origin), f(ray.dir), [f(tri.v0), f(tri.v1), f(tri.v2)])
-            else {
+            let whole = (exact_lanes.bitmask() >> i) & 1 == 1;
+            // The watertight tier decided its edges and its (rounded) t_max test already.
+            let Some(r) = resolve(
+                f(ray.origin),
+                f(ray.dir),
+                [f(tri.v0), f(tri.v1), f(tri.v2)],
+                t_min.lane(i).to_f64(),
+                t_max.lane(i).to_f64(),
+                whole,
+                CULL,
+                EXACT,
+            ) else {
                 continue;
             };
-            let whole = (exact_lanes.bitmask() >> i) & 1 == 1;
-            if plane.parallel() || whole && !(plane.inside() && (!CULL || plane.front())) {
-                continue;
+            keep |= 1 << i;
+            // The exact tier's lanes, and lanes whose filter values over- or underflowed, take t
+            // from the exact stage; the exact tier's lanes take the barycentrics too (the
+            // watertight tier keeps its own, which agree with its edge test).
+            if whole || (safe_bits >> i) & 1 == 0 {
+                exact_t |= 1 << i;
+                te[i] = r.t;
             }
-            let ge_min = matches!(
-                plane.t_cmp_f64(t_min.lane(i).to_f64()),
-                Some(Ordering::Greater | Ordering::Equal)
-            );
-            // (The watertight tier's t_max test is on the rounded t, passed already.)
-            let le_max = !EXACT
-                || matches!(
-                    plane.t_cmp_f64(t_max.lane(i).to_f64()),
-                    Some(Ordering::Less | Ordering::Equal)
-                );
-            if ge_min && le_max {
-                keep |= 1 << i;
-                // The exact tier's lanes, and lanes whose filter values over- or underflowed,
-                // take t from the exact quantities; the exact tier's lanes take the barycentrics
-                // too (the watertight tier keeps its own, which agree with its edge test).
-                if whole || (safe_bits >> i) & 1 == 0 {
-                    exact_t |= 1 << i;
-                    te[i] = plane.t();
-                }
-                if whole {
-                    exact_bary |= 1 << i;
-                    let (b1, b2) = plane.barycentrics();
-                    (ue[i], ve[i]) = (b1.clamp(0.0, 1.0), b2.clamp(0.0, 1.0));
-                }
+            if whole {
+                exact_bary |= 1 << i;
+                (ue[i], ve[i]) = (r.b1.clamp(0.0, 1.0), r.b2.clamp(0.0, 1.0));
             }
         }
         mask = mask | L::mask_from_bits(keep);
