@@ -5,7 +5,6 @@
 //! 1e-9 rad, long thin triangles of aspect 1e2 to 1e5, translated and scaled from 1e-20 to 1e30,
 //! and `t_min`/`t_max` placed exactly at (and one f32 step around) the exact hit.
 #![cfg(feature = "triangle")]
-use octoray::kernels::triangle::exact::fallback_lanes;
 use octoray::kernels::{Exact, ExactCulled};
 use octoray::{intersect, Hit, Ray, RayLanes, VertexTriangle};
 use octoray_testkit as testkit;
@@ -22,7 +21,10 @@ fn check(name: &str, cases: &[TriCase]) -> (usize, usize) {
         let want = truth.hit_finite();
         let got: Option<Hit> = intersect::<f32, Exact>(&c.ray, &tri);
         assert_eq!(got.is_some(), want, "{name}: {c:?}, exact t {}", truth.t);
-        fallbacks += usize::from(fallback_lanes::<f32>(&RayLanes::single(&c.ray), &tri));
+        fallbacks += usize::from(<Exact>::fallback_lanes::<f32>(
+            &RayLanes::single(&c.ray),
+            &tri,
+        ));
         if let Some(h) = got {
             hits += 1;
             assert!(

@@ -11,7 +11,6 @@
 use octoray_testkit as testkit;
 
 use glam::Vec3;
-use octoray::kernels::triangle::exact::fallback_lanes;
 use octoray::kernels::{Exact, Watertight};
 use octoray::{intersect, Hit, Ray, RayLanes, VertexTriangle};
 use octoray_benches::peers::TrianglePeer;
@@ -263,7 +262,7 @@ fn exact_by_family() -> String {
         let fallbacks = cases
             .iter()
             .zip(&tris)
-            .filter(|(c, t)| fallback_lanes::<f32>(&RayLanes::single(&c.ray), t))
+            .filter(|(c, t)| <Exact>::fallback_lanes::<f32>(&RayLanes::single(&c.ray), t))
             .count();
         let time = |f: &dyn Fn(&Ray, &VertexTriangle) -> bool| {
             (0..5)

@@ -97,6 +97,16 @@ pub struct Exact<const CULL: bool = false>;
 #[cfg(feature = "triangle")]
 pub type ExactCulled = Exact<true>;
 
+#[cfg(feature = "triangle")]
+impl<const CULL: bool> Exact<CULL> {
+    /// The lanes of `ray` that the exact tier decides past its filter against `tri` (in f64 or
+    /// with exact arithmetic): what its fallback rate is measured with.
+    pub fn fallback_lanes<L: Lanes>(ray: &RayLanes<L>, tri: &VertexTriangle) -> L::Mask {
+        use crate::kernels::triangle::watertight::{sheared_body_traced, ShearedRay};
+        sheared_body_traced::<L, CULL, true>(ray, &ShearedRay::new(ray), &tri.splat()).1
+    }
+}
+
 /// Stable sphere (Ray Tracing Gems ch. 7, [`crate::kernels::sphere::stable`]).
 #[cfg(feature = "sphere")]
 #[derive(Clone, Copy, Debug, Default)]
