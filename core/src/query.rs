@@ -148,12 +148,14 @@ pub fn closest_t<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -
     let mut t = ray.t_max;
     for prim in prims {
         let h = K::intersect(&ray, &pre, prim);
-        let m = h.mask & (!found | h.t.lt(t));
-        t = L::select(m, h.t, t);
-        if !K::EXACT_T_MAX {
-            ray.t_max = L::select(m, loosen(t, t_max), ray.t_max);
+        if h.mask.any() {
+            let m = h.mask & (!found | h.t.lt(t));
+            t = L::select(m, h.t, t);
+            if !K::EXACT_T_MAX {
+                ray.t_max = L::select(m, loosen(t, t_max), ray.t_max);
+            }
+            found = found | h.mask;
         }
-        found = found | h.mask;
     }
     (found, t)
 }

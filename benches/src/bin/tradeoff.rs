@@ -252,7 +252,7 @@ fn exact_by_family() -> String {
         ("translated 1e4", translated_cases(16, 20_000, 1e4, 1.0)),
     ];
     let mut md = String::new();
-    writeln!(md, "| ray family | tests | decided by exact arithmetic | watertight ns/test (scalar) | exact ns/test (scalar) | exact / watertight |").unwrap();
+    writeln!(md, "| ray family | tests | decided past the filter (f64, then exact) | watertight ns/test (scalar) | exact ns/test (scalar) | exact / watertight |").unwrap();
     writeln!(md, "|---|---|---|---|---|---|").unwrap();
     for (name, cases) in families {
         let tris: Vec<VertexTriangle> = cases
@@ -582,8 +582,16 @@ fn main() {
     }
     let p = workload();
     let mut results = vec![];
-    for row in rows() {
-        let ns = ns_per_test(row.entry, &p);
+    // Speed in three rounds over all rows, the best of each row kept: a burst of load on a
+    // shared machine then spoils one round of a row, not the row.
+    let all = rows();
+    let mut best = vec![f64::INFINITY; all.len()];
+    for _ in 0..3 {
+        for (b, row) in best.iter_mut().zip(&all) {
+            *b = b.min(ns_per_test(row.entry, &p));
+        }
+    }
+    for (row, ns) in all.into_iter().zip(best) {
         let cycles = cycles_per_test(row.entry, p.w.tests())
             .map(|c| (c, true))
             .or_else(|| nominal_ghz().map(|g| (ns * g, false)));
@@ -613,7 +621,7 @@ fn main() {
     writeln!(md, "closest hit. Accuracy over 20 000 cases (random, aimed at edges and vertices, grazing 1e-3 and 1e-5 rad,").unwrap();
     writeln!(md, "translated 1e4) against the exact oracle; cracks: 25 000 rays from inside two closed jittered meshes;").unwrap();
     writeln!(md, "thin cracks: 10 000 rays from inside five closed meshes of long thin triangles (issue 11's families).").unwrap();
-    writeln!(md, "Regenerate: `cargo run --release -p octoray-benches --bin tradeoff` (with the RUSTFLAGS above).").unwrap();
+    writeln!(md, "Regenerate: `cargo run --release -p octoray-benches --bin tradeoff`. ns/test: the best of three rounds of best-of-7 runs; this shared VM shows ±50 % bursts between runs, so compare rows of one run.").unwrap();
     if results.iter().any(|r| matches!(r.cycles, Some((_, false)))) {
         writeln!(md, "\"est.\": perf's cycle counter is not exposed on this machine; cycles = ns × the nominal {:.2} GHz.", nominal_ghz().unwrap_or(0.0)).unwrap();
     }
