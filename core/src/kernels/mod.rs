@@ -145,39 +145,31 @@ kernel_without_prepare!(#[cfg(feature = "sphere")] [L: Lanes] StableSphere, Pack
 kernel_without_prepare!(#[cfg(feature = "sphere")] [L: Lanes] NaiveSphere, PackedSphere, L,
     crate::kernels::sphere::naive::intersect_lanes);
 
-#[cfg(feature = "triangle")]
-impl<L: Lanes, const CULL: bool> Kernel<L> for Watertight<CULL> {
-    type Prim = VertexTriangle;
-    type Pre = crate::kernels::triangle::watertight::ShearedRay<L>;
-    #[inline(always)]
-    fn prepare(ray: &RayLanes<L>) -> Self::Pre {
-        crate::kernels::triangle::watertight::ShearedRay::new(ray)
-    }
-    #[inline(always)]
-    fn intersect_lanes(
-        ray: &RayLanes<L>,
-        pre: &Self::Pre,
-        prim: &crate::prim::VertexLanes<L>,
-    ) -> LanesHit<L> {
-        crate::kernels::triangle::watertight::intersect_sheared_with::<L, CULL>(ray, pre, prim)
-    }
+/// Implements [`Kernel`] for a tier on the watertight body (`$exact`: the exact tier).
+macro_rules! sheared_kernel {
+    ($ty:ident, $exact:literal) => {
+        #[cfg(feature = "triangle")]
+        impl<L: Lanes, const CULL: bool> Kernel<L> for $ty<CULL> {
+            type Prim = VertexTriangle;
+            type Pre = crate::kernels::triangle::watertight::ShearedRay<L>;
+            const EXACT_T_MAX: bool = $exact;
+            #[inline(always)]
+            fn prepare(ray: &RayLanes<L>) -> Self::Pre {
+                crate::kernels::triangle::watertight::ShearedRay::new(ray)
+            }
+            #[inline(always)]
+            fn intersect_lanes(
+                ray: &RayLanes<L>,
+                pre: &Self::Pre,
+                prim: &crate::prim::VertexLanes<L>,
+            ) -> LanesHit<L> {
+                crate::kernels::triangle::watertight::sheared_body::<L, CULL, $exact>(
+                    ray, pre, prim,
+                )
+            }
+        }
+    };
 }
 
-#[cfg(feature = "triangle")]
-impl<L: Lanes, const CULL: bool> Kernel<L> for Exact<CULL> {
-    type Prim = VertexTriangle;
-    type Pre = crate::kernels::triangle::watertight::ShearedRay<L>;
-    const EXACT_T_MAX: bool = true;
-    #[inline(always)]
-    fn prepare(ray: &RayLanes<L>) -> Self::Pre {
-        crate::kernels::triangle::watertight::ShearedRay::new(ray)
-    }
-    #[inline(always)]
-    fn intersect_lanes(
-        ray: &RayLanes<L>,
-        pre: &Self::Pre,
-        prim: &crate::prim::VertexLanes<L>,
-    ) -> LanesHit<L> {
-        crate::kernels::triangle::watertight::sheared_body::<L, CULL, true>(ray, pre, prim)
-    }
-}
+sheared_kernel!(Watertight, false);
+sheared_kernel!(Exact, true);

@@ -216,26 +216,48 @@ pub struct Resolved {
     pub b2: f64,
 }
 
+/// One lane's question for [`resolve`]: the ray, the triangle, the range, and what is still to
+/// be decided.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LaneQuery {
+    /// Ray origin.
+    pub o: P,
+    /// Ray direction.
+    pub d: P,
+    /// Triangle vertices.
+    pub v: [P; 3],
+    /// Range start.
+    pub t_min: f64,
+    /// Range end.
+    pub t_max: f64,
+    /// Decide the edges (else they were decided already).
+    pub edges: bool,
+    /// With `edges`: back faces (`D > 0`) are misses.
+    pub cull: bool,
+    /// Decide `t ≤ t_max` (else it was decided already).
+    pub check_max: bool,
+}
+
 /// Decides one ray against one triangle exactly: with `edges`, that the line passes inside (and,
 /// with `cull`, meets a front face); always that it is not parallel to the plane and that
 /// `t ≥ t_min`; with `check_max`, that `t ≤ t_max`. `None` is a miss (also for a NaN bound or a
 /// non-finite input). First in f64 with certified error bounds (a few dozen flops; decides all but
 /// exact ties), then, where f64 cannot decide, with [`ExactPlane`].
-#[allow(clippy::too_many_arguments)]
-pub fn resolve(
-    o: P,
-    d: P,
-    v: [P; 3],
-    t_min: f64,
-    t_max: f64,
-    edges: bool,
-    cull: bool,
-    check_max: bool,
-) -> Option<Resolved> {
+pub fn resolve(q: &LaneQuery) -> Option<Resolved> {
+    let LaneQuery {
+        o,
+        d,
+        v,
+        t_min,
+        t_max,
+        edges,
+        cull,
+        check_max,
+    } = *q;
     if t_min.is_nan() || t_max.is_nan() {
         return None;
     }
-    if let Some(answer) = resolve_f64(o, d, v, t_min, t_max, edges, cull, check_max) {
+    if let Some(answer) = resolve_f64(q) {
         return answer;
     }
     let plane = ExactPlane::new(o, d, v)?;
@@ -286,17 +308,17 @@ fn det_f64(r0: [f64; 3], r1: [f64; 3], r2: [f64; 3]) -> (f64, f64) {
 /// the only errors are roundings: each difference `v − o` once, each determinant term at most
 /// seven more times, so `|ŵ − w| ≤ γ₈·perm` (16u·perm is used, u = 2⁻⁵³, which also covers the
 /// rounding of the permanent); `D̂ = Σŵᵢ` adds `3u·Σ|ŵᵢ|`; `N̂ − b·D̂` adds `3u·(|N̂| + |b·D̂|)`.
-#[allow(clippy::too_many_arguments)]
-fn resolve_f64(
-    o: P,
-    d: P,
-    v: [P; 3],
-    t_min: f64,
-    t_max: f64,
-    edges: bool,
-    cull: bool,
-    check_max: bool,
-) -> Option<Option<Resolved>> {
+fn resolve_f64(q: &LaneQuery) -> Option<Option<Resolved>> {
+    let LaneQuery {
+        o,
+        d,
+        v,
+        t_min,
+        t_max,
+        edges,
+        cull,
+        check_max,
+    } = *q;
     let u = f64::EPSILON / 2.0;
     let wide = |p: P| p.map(f64::from);
     let rel = |p: P| {

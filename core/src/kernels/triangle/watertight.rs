@@ -40,7 +40,7 @@
 //!   exact tier, which decides the edges exactly too.
 //!
 use crate::hit::LanesHit;
-use crate::kernels::triangle::exact::resolve;
+use crate::kernels::triangle::exact::{resolve, LaneQuery};
 use crate::lanes::V3;
 use crate::lanes::{LaneMask, Lanes, Scalar};
 use crate::prim::{Primitive, VertexLanes};
@@ -366,16 +366,16 @@ pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>
             let f = |p: V3<L>| p.lane(i).map(Scalar::to_f32);
             let whole = (exact_lanes.bitmask() >> i) & 1 == 1;
             // The watertight tier decided its edges and its (rounded) t_max test already.
-            let Some(r) = resolve(
-                f(ray.origin),
-                f(ray.dir),
-                [f(tri.v0), f(tri.v1), f(tri.v2)],
-                t_min.lane(i).to_f64(),
-                t_max.lane(i).to_f64(),
-                whole,
-                CULL,
-                EXACT,
-            ) else {
+            let Some(r) = resolve(&LaneQuery {
+                o: f(ray.origin),
+                d: f(ray.dir),
+                v: [f(tri.v0), f(tri.v1), f(tri.v2)],
+                t_min: t_min.lane(i).to_f64(),
+                t_max: t_max.lane(i).to_f64(),
+                edges: whole,
+                cull: CULL,
+                check_max: EXACT,
+            }) else {
                 continue;
             };
             keep |= 1 << i;
