@@ -231,3 +231,33 @@ fn watertight_keeps_the_thin_triangle_hit_of_issue_11() {
     let e = intersect::<f32, Exact>(&ray, &tri).expect("the exact tier hits");
     assert!((e.t - 0.9995).abs() < 0.05, "{e:?}");
 }
+
+#[test]
+fn an_empty_range_is_a_miss_for_the_watertight_tier() {
+    // Found by the 10⁷-case fuzz run: with t_min > t_max, a grazing hit whose rounded t passed
+    // the (rounded) t_max test while its exact t passed the (exact) t_min test was reported at
+    // t = t_max < t_min. Rebuilt here: grazing hits whose rounded t is well below the exact t,
+    // with t_min at the exact t and t_max at the rounded one.
+    use octoray::intersect;
+    use octoray_testkit::{accuracy::grazing_cases, oracle};
+    let mut found = 0;
+    for c in grazing_cases(31, 4000, 1e-6) {
+        let tri = VertexTriangle::new(c.v[0], c.v[1], c.v[2]);
+        let Some(h) = intersect::<f32, Watertight>(&c.ray, &tri) else {
+            continue;
+        };
+        let truth = oracle::triangle(&c.ray, c.v);
+        let t_min = (truth.t as f32).next_down();
+        if !(f64::from(h.t) < truth.t * (1.0 - 1e-4) && f64::from(t_min) <= truth.t) {
+            continue;
+        }
+        found += 1;
+        let ray = Ray::with_range(c.ray.origin, c.ray.dir, t_min, h.t);
+        assert_eq!(intersect::<f32, Watertight>(&ray, &tri), None, "{ray:?}");
+        assert_eq!(intersect::<f32, Exact>(&ray, &tri), None, "{ray:?}");
+    }
+    assert!(
+        found > 0,
+        "no grazing case with a rounded t below the exact one"
+    );
+}

@@ -406,7 +406,9 @@ pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>
     // The exact t is in range; the rounded one may sit just outside: clamp (toward the exact).
     let t = L::select(t.lt(t_min), t_min, t);
     let t = L::select(t.gt(t_max), t_max, t);
-    mask = mask & t.le(L::splat(f32::MAX)) & t.ge(L::splat(-f32::MAX));
+    // An empty range (t_min > t_max) is a miss: the watertight tier's two sides are decided
+    // differently (exact t ≥ t_min, rounded t ≤ t_max), so they alone could both pass.
+    mask = mask & t.le(L::splat(f32::MAX)) & t.ge(L::splat(-f32::MAX)) & t_min.le(t_max);
     let hit = LanesHit {
         mask,
         t,
