@@ -180,7 +180,8 @@ fn ulps<L: Lanes>(k: f64) -> L {
 
 /// The body of the watertight and exact tiers. `EXACT = false`: the watertight tier, edge signs as
 /// computed (exact at zero). `EXACT = true`: the exact tier, edge signs certified by a bound or
-/// recomputed exactly. Both decide `t ∈ [t_min, t_max]` exactly.
+/// recomputed exactly. Both decide `t ≥ t_min` exactly; the exact tier decides `t ≤ t_max` exactly
+/// too, the watertight tier on its rounded `t`.
 ///
 /// Error bounds (standard model, `u` the unit roundoff; *safe* lanes are those where no product
 /// can under- or overflow, checked below; every other lane goes to the exact predicates):
