@@ -261,3 +261,34 @@ fn an_empty_range_is_a_miss_for_the_watertight_tier() {
         "no grazing case with a rounded t below the exact one"
     );
 }
+
+#[test]
+fn a_watertight_hit_whose_products_overflow_respects_t_max_exactly() {
+    // Found by the 10⁷-case fuzz run: triangles at ~4e17 overflow the sheared products, so the
+    // rounded t that passed the t_max test was meaningless; the exact t (1.4e19) lies far beyond
+    // t_max and the hit was reported at t = t_max. Such lanes now decide t_max exactly.
+    use octoray::intersect;
+    let v = Vec3::new;
+    let ray = Ray::with_range(
+        v(0.0023017004, 0.009760706, -0.021290645),
+        v(-0.0033352803, -0.012583714, 0.021618597),
+        -9.220655e-16,
+        27831841000000.0,
+    );
+    let tri = VertexTriangle::new(
+        v(7.44384e16, -4.0556782e17, 2.5725868e17),
+        v(-5.183034e16, 2.5198419e17, 3.613136e17),
+        v(-3.4135957e17, 2.8992818e16, 3.295752e17),
+    );
+    assert_eq!(intersect::<f32, Watertight>(&ray, &tri), None);
+    assert_eq!(intersect::<f32, Exact>(&ray, &tri), None);
+    // With the range opened, both report the exact t, rounded.
+    let far = Ray::new(ray.origin, ray.dir);
+    for h in [
+        intersect::<f32, Watertight>(&far, &tri),
+        intersect::<f32, Exact>(&far, &tri),
+    ] {
+        let t = h.expect("the line meets the triangle").t;
+        assert!((t / 1.3648488e19 - 1.0).abs() < 1e-6, "{t}");
+    }
+}

@@ -366,7 +366,10 @@ pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>
             bits &= bits - 1;
             let f = |p: V3<L>| p.lane(i).map(Scalar::to_f32);
             let whole = (exact_lanes.bitmask() >> i) & 1 == 1;
-            // The watertight tier decided its edges and its (rounded) t_max test already.
+            let unsafe_lane = (safe_bits >> i) & 1 == 0;
+            // The watertight tier decided its edges and its rounded t_max test already; where its
+            // products over- or underflowed that rounded t is meaningless, so t_max is decided
+            // exactly there too.
             let Some(r) = resolve(&LaneQuery {
                 o: f(ray.origin),
                 d: f(ray.dir),
@@ -375,7 +378,7 @@ pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>
                 t_max: t_max.lane(i).to_f64(),
                 edges: whole,
                 cull: CULL,
-                check_max: EXACT,
+                check_max: EXACT || unsafe_lane,
             }) else {
                 continue;
             };
@@ -383,7 +386,7 @@ pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>
             // The exact tier's lanes, and lanes whose filter values over- or underflowed, take t
             // from the exact stage; the exact tier's lanes take the barycentrics too (the
             // watertight tier keeps its own, which agree with its edge test).
-            if whole || (safe_bits >> i) & 1 == 0 {
+            if whole || unsafe_lane {
                 exact_t |= 1 << i;
                 te[i] = r.t;
             }
