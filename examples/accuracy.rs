@@ -43,16 +43,17 @@ fn header(title: &str) {
 fn cracks() {
     println!("\n### Crack rate: rays from inside closed jittered meshes (icosphere 1280 tris, cube grid 768 tris)\n");
     println!("Rays aimed exactly at vertices, at edge points, at interior points and anywhere (a quarter each), 12 500 per mesh.\n");
-    println!("| mesh | centre | standard | watertight |");
-    println!("|---|---|---|---|");
+    println!("| mesh | centre | standard | watertight | exact |");
+    println!("|---|---|---|---|---|");
     for r in crack_suite(12_500) {
         let pct = |k: usize| format!("{k} ({:.3} %)", 100.0 * k as f64 / r.rays as f64);
         println!(
-            "| {} | {:e} | {} | {} |",
+            "| {} | {:e} | {} | {} | {} |",
             r.mesh,
             r.center,
             pct(r.escapes.standard),
-            pct(r.escapes.watertight)
+            pct(r.escapes.watertight),
+            pct(r.escapes.exact)
         );
     }
 }
