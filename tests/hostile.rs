@@ -292,3 +292,33 @@ fn a_watertight_hit_whose_products_overflow_respects_t_max_exactly() {
         assert!((t / 1.3648488e19 - 1.0).abs() < 1e-6, "{t}");
     }
 }
+
+#[test]
+fn a_nearer_hit_whose_rounded_t_overflows_is_not_cut_off_by_an_earlier_hit() {
+    // Found by the 10⁷-case fuzz run (brute force and the BVH disagreed): a huge tilted triangle
+    // (vertices at 2^50) whose numerator N overflows f32 while its edge functions do not. With
+    // t_max lowered to an earlier hit, the rounded test `N ≤ t_max·|D|` (inf ≤ finite) cut it
+    // off, though its exact t is nearer; with t_max = inf it passed. Such lanes now go on to the
+    // exact stage.
+    let v = Vec3::new;
+    let big = 2f32.powi(50);
+    let far = VertexTriangle::new(v(-1.0, -1.0, -1.0), v(3.0, -1.0, -1.0), v(-1.0, 3.0, -1.0));
+    // The plane z = −x: the ray down from (0.5, 0.25, 1) meets it at z = −0.5, t = 1.5.
+    let huge = VertexTriangle::new(
+        v(-big, -big, big),
+        v(2.0 * big, -big, -2.0 * big),
+        v(-big, 2.0 * big, big),
+    );
+    let ray = Ray::new(v(0.5, 0.25, 1.0), v(0.0, 0.0, -1.0));
+    let tris = [far, huge];
+    let tree = octoray::bvh::Bvh8::build(&tris);
+    for got in [
+        closest::<f32, Watertight>(&RayLanes::single(&ray), &tris).lane(0),
+        closest::<f32x8, Watertight>(&RayLanes::load(&[ray]), &tris).lane(0),
+        closest::<f32x8, Exact>(&RayLanes::load(&[ray]), &tris).lane(0),
+        octoray::bvh::traverse::closest_ray::<f32x8, Watertight>(tree.as_ref(), &ray),
+    ] {
+        let h = got.expect("both triangles are hit");
+        assert_eq!((h.prim, h.t), (1, 1.5), "{h:?}");
+    }
+}

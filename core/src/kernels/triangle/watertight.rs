@@ -301,7 +301,10 @@ pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>
     if !EXACT {
         // The watertight tier compares the rounded t with t_max (as the standard tier does, and as
         // closest-hit queries order hits): far hits leave here, before any bound is computed.
-        mask = mask & num.le(t_max * abs_det);
+        // (Where num or the bound overflowed, the rounded test means nothing: those lanes go on
+        // to the exact stage, which decides t_max exactly for lanes outside the safe window.)
+        let at_max = t_max * abs_det;
+        mask = mask & (num.le(at_max) | !(num.is_finite() & at_max.is_finite()));
         if mask.none() {
             return (LanesHit::miss(mask), exact_lanes);
         }
