@@ -322,3 +322,28 @@ fn a_nearer_hit_whose_rounded_t_overflows_is_not_cut_off_by_an_earlier_hit() {
         assert_eq!((h.prim, h.t), (1, 1.5), "{h:?}");
     }
 }
+
+#[test]
+fn a_t_max_whose_scaled_bound_overflows_is_still_tested() {
+    // Found by the 10⁷-case fuzz run: t_max = −2.7e17 times |D| ≈ 1e25 overflows, so the rounded
+    // t_max test was skipped and nothing else tested t_max; the hit at exact t = 1 was reported
+    // at t = t_max. Such lanes now decide t_max exactly.
+    use octoray::intersect;
+    let v = Vec3::new;
+    let ray = Ray::with_range(
+        v(-3.6111658e-6, 1.2424738e-6, 7.5966915e-7),
+        v(-2191841000000.0, 1150781800000.0, 657631000000.0),
+        -6.1908184e18,
+        -2.6855149e17,
+    );
+    let tri = VertexTriangle::new(
+        v(-2123935300000.0, 1064015560000.0, 0.0),
+        v(-2282656400000.0, 1264370600000.0, 936148700000.0),
+        v(-2168931700000.0, 1123959300000.0, 1036744460000.0),
+    );
+    assert_eq!(intersect::<f32, Watertight>(&ray, &tri), None);
+    assert_eq!(intersect::<f32, Exact>(&ray, &tri), None);
+    let open = Ray::new(ray.origin, ray.dir);
+    let h = intersect::<f32, Watertight>(&open, &tri).expect("hit at t = 1");
+    assert!((h.t - 1.0).abs() < 1e-5, "{h:?}");
+}

@@ -298,13 +298,17 @@ pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>
 
     let (t_min, t_max) = (ray.t_min, ray.t_max);
     let inf = L::splat(f32::INFINITY);
+    // Watertight lanes whose rounded t_max test meant nothing (N or the bound overflowed): the
+    // exact stage decides t_max for them.
+    let mut max_untested = ray.active & !ray.active;
     if !EXACT {
         // The watertight tier compares the rounded t with t_max (as the standard tier does, and as
         // closest-hit queries order hits): far hits leave here, before any bound is computed.
         // (Where num or the bound overflowed, the rounded test means nothing: those lanes go on
         // to the exact stage, which decides t_max exactly for lanes outside the safe window.)
         let at_max = t_max * abs_det;
-        mask = mask & (num.le(at_max) | !(num.is_finite() & at_max.is_finite()));
+        max_untested = !(num.is_finite() & at_max.is_finite());
+        mask = mask & (num.le(at_max) | max_untested);
         if mask.none() {
             return (LanesHit::miss(mask), exact_lanes);
         }
@@ -347,7 +351,7 @@ pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>
         & max_z.ge(L::splat(SAFE_MIN))
         & me.ge(L::splat(SAFE_MIN))
         & me.le(L::splat(SAFE_MAX));
-    let decided = safe & (above_min | below_min) & (below_max | above_max);
+    let decided = safe & (above_min | below_min) & (below_max | above_max) & !max_untested;
     let in_range = decided & above_min & below_max;
     // Lanes whose range the filter cannot decide: exactly, from the lane's inputs.
     let undecided = mask & !decided;
@@ -362,6 +366,7 @@ pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>
     if todo.any() {
         let mut bits = todo.bitmask();
         let safe_bits = safe.bitmask();
+        let untested_bits = max_untested.bitmask();
         let (mut keep, mut exact_t, mut exact_bary) = (0u32, 0u32, 0u32);
         let (mut te, mut ue, mut ve) = ([0.0f64; 16], [0.0f64; 16], [0.0f64; 16]);
         while bits != 0 {
@@ -381,7 +386,7 @@ pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>
                 t_max: t_max.lane(i).to_f64(),
                 edges: whole,
                 cull: CULL,
-                check_max: EXACT || unsafe_lane,
+                check_max: EXACT || unsafe_lane || (untested_bits >> i) & 1 == 1,
             }) else {
                 continue;
             };
