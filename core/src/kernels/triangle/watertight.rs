@@ -307,7 +307,8 @@ pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>
         // (Where num or the bound overflowed, the rounded test means nothing: those lanes go on
         // to the exact stage, which decides t_max exactly for lanes outside the safe window.)
         let at_max = t_max * abs_det;
-        max_untested = !(num.is_finite() & at_max.is_finite());
+        // (t_max = +inf makes the bound +inf legitimately: every finite N passes, as it should.)
+        max_untested = !num.is_finite() | (!at_max.is_finite() & t_max.is_finite());
         mask = mask & (num.le(at_max) | max_untested);
         if mask.none() {
             return (LanesHit::miss(mask), exact_lanes);
