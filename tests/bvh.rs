@@ -11,13 +11,14 @@ use octoray_testkit as testkit;
 use octoray::bvh::traverse::{
     closest, closest_packet, closest_ray, closest_t_packet, occluded, occluded_packet, occluded_ray,
 };
-use octoray::bvh::{Bvh8, Bvh8Node, Bvh8Ref, BvhError, EMPTY};
+use octoray::bvh::{Bvh8, Bvh8Node, Bvh8Ref, BvhError, BLOCK, EMPTY, PAD};
 use octoray::glam::Vec3;
 use octoray::kernels::{
     Exact, ExactCulled, Kernel, MollerTrumbore, MollerTrumboreCulled, NaiveSphere, StableSphere,
     Watertight, WatertightCulled,
 };
 use octoray::packet::{f32x16, f32x4, f32x8};
+use octoray::prim::Primitive;
 use octoray::query;
 use octoray::{Hit, PackedSphere, PackedTriangle, Ray, VertexTriangle};
 use octoray::{LaneMask, Lanes, RayLanes, Scalar};
@@ -358,9 +359,12 @@ fn build_is_deterministic_and_plain_data() {
     let bytes: &[u8] = bytemuck::cast_slice(a.nodes());
     assert_eq!(bytes, bytemuck::cast_slice::<Bvh8Node, u8>(b.nodes()));
     assert_eq!(a.ids(), b.ids());
+    let block_bytes: &[u8] = bytemuck::cast_slice(a.blocks());
+    assert_eq!(block_bytes, bytemuck::cast_slice::<_, u8>(b.blocks()));
     // Written out as bytes and read back as borrowed slices, it traverses the same.
     let nodes: Vec<Bvh8Node> = bytemuck::pod_collect_to_vec(bytes);
-    let r = Bvh8Ref::new(&nodes, a.prims(), a.ids()).expect("valid tree");
+    let blocks: Vec<[f32; BLOCK]> = bytemuck::pod_collect_to_vec(block_bytes);
+    let r = Bvh8Ref::<VertexTriangle>::new(&nodes, &blocks, a.ids()).expect("valid tree");
     let ray = Ray::new(Vec3::new(0.0, 0.0, -1e7), Vec3::Z);
     assert_eq!(
         bits(closest_ray::<f32x8, Watertight>(r, &ray)),
@@ -371,24 +375,54 @@ fn build_is_deterministic_and_plain_data() {
 #[test]
 fn bad_trees_are_rejected_not_traversed() {
     let tris = [VertexTriangle::new(Vec3::ZERO, Vec3::X, Vec3::Y)];
-    let ids = [0u32];
+    let mut blocks = [[0.0f32; BLOCK]; 9];
+    VertexTriangle::write_block(&tris, &mut blocks);
+    let mut ids = [PAD; BLOCK];
+    ids[0] = 0;
+    type R<'a> = Bvh8Ref<'a, VertexTriangle>;
     let mut n = Bvh8Node::EMPTY;
     n.child[0] = 0; // an inner node pointing at itself: a cycle
     assert_eq!(
-        Bvh8Ref::new(&[n], &tris, &ids).unwrap_err(),
+        R::new(&[n], &blocks, &ids).unwrap_err(),
         BvhError::BadNodeRef { node: 0 }
     );
     n.child[0] = 0;
-    n.count[0] = 2; // a leaf past the primitives
+    n.count[0] = BLOCK as u32 + 1; // a leaf past the blocks
     assert_eq!(
-        Bvh8Ref::new(&[n], &tris, &ids).unwrap_err(),
+        R::new(&[n], &blocks, &ids).unwrap_err(),
         BvhError::BadLeaf { node: 0 }
     );
+    n.child[0] = 1; // a leaf not starting a block
     n.count[0] = 1;
-    assert!(Bvh8Ref::new(&[n], &tris, &ids).is_ok());
     assert_eq!(
-        Bvh8Ref::new(&[n], &tris, &[]).unwrap_err(),
-        BvhError::LengthMismatch { prims: 1, ids: 0 }
+        R::new(&[n], &blocks, &ids).unwrap_err(),
+        BvhError::BadLeaf { node: 0 }
+    );
+    n.child[0] = 0;
+    for a in 0..3 {
+        (n.lo[a][0], n.hi[a][0]) = (-1.0, 2.0);
+    }
+    let one = [n];
+    let r = R::new(&one, &blocks, &ids).expect("a one-leaf tree");
+    let ray = Ray::new(Vec3::new(0.25, 0.25, -1.0), Vec3::Z);
+    assert_eq!(
+        closest_ray::<f32x8, Watertight>(r, &ray).map(|h| h.prim),
+        Some(0)
+    );
+    assert_eq!(
+        R::new(&[n], &blocks, &[]).unwrap_err(),
+        BvhError::LengthMismatch { blocks: 9, ids: 0 }
+    );
+    assert_eq!(
+        R::new(&[n], &blocks[..8], &ids).unwrap_err(),
+        BvhError::LengthMismatch {
+            blocks: 8,
+            ids: BLOCK
+        }
+    );
+    assert_eq!(
+        R::new(&[n], &blocks, &ids[..1]).unwrap_err(),
+        BvhError::LengthMismatch { blocks: 9, ids: 1 }
     );
     // A chain deeper than MAX_DEPTH.
     let deep: Vec<Bvh8Node> = (0..70u32)
@@ -398,10 +432,7 @@ fn bad_trees_are_rejected_not_traversed() {
             n
         })
         .collect();
-    assert_eq!(
-        Bvh8Ref::new(&deep, &tris, &ids).unwrap_err(),
-        BvhError::TooDeep
-    );
+    assert_eq!(R::new(&deep, &blocks, &ids).unwrap_err(), BvhError::TooDeep);
 }
 
 #[test]

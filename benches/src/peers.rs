@@ -171,7 +171,7 @@ pub fn obvhs_closest(rays: &[Ray], tris: &[obvhs::triangle::Triangle]) -> u32 {
     hits
 }
 
-fn bvh_point(v: Vec3) -> nalgebra::Point3<f32> {
+pub fn bvh_point(v: Vec3) -> nalgebra::Point3<f32> {
     nalgebra::Point3::new(v.x, v.y, v.z)
 }
 

@@ -3,7 +3,7 @@
 
 use octoray_core::glam::Vec3;
 use octoray_core::{PackedSphere, PackedTriangle, Ray};
-use octoray_core::bvh::{traverse, Bvh8Node, Bvh8Ref};
+use octoray_core::bvh::{traverse, Bvh8Node, Bvh8Ref, BLOCK};
 use octoray_core::kernels::Watertight;
 use octoray_core::VertexTriangle;
 use octoray_packet::tiers::{StableSphere, MollerTrumbore};
@@ -33,11 +33,11 @@ pub extern "C" fn octoray_nostd_probe(x: f32) -> u32 {
 #[no_mangle]
 pub extern "C" fn octoray_nostd_bvh_probe(
     nodes: &[Bvh8Node; 1],
-    tris: &[VertexTriangle; 2],
-    ids: &[u32; 2],
+    blocks: &[[f32; BLOCK]; 9],
+    ids: &[u32; BLOCK],
     x: f32,
 ) -> u32 {
-    let Ok(bvh) = Bvh8Ref::new(nodes, tris, ids) else {
+    let Ok(bvh) = Bvh8Ref::<VertexTriangle>::new(nodes, blocks, ids) else {
         return u32::MAX;
     };
     let ray = Ray::new(Vec3::new(x, 0.25, -1.0), Vec3::new(0.0, 0.0, 1.0));

@@ -11,6 +11,8 @@ use octoray::bvh::{Bvh8, Bvh8Ref};
 use octoray::kernels::{Kernel, MollerTrumbore, Watertight};
 use octoray::{LaneMask, Lanes, RayLanes};
 use octoray::{PackedTriangle, Ray};
+use octoray_benches::embree::EmbreeScene;
+use octoray_benches::scene_peers::{BvhScene, ObvhsScene};
 use octoray_benches::scenes::{jittered_sphere, sponza, SceneSet};
 use rayon::prelude::*;
 use std::fmt::Write as _;
@@ -110,7 +112,7 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
     .unwrap();
     writeln!(
         md,
-        "| rays | query | traversal | tier | Mrays/s, 1 thread | hits |"
+        "| rays | query | traversal | tier or peer | Mrays/s, 1 thread | hits |"
     )
     .unwrap();
     writeln!(md, "|---|---|---|---|---|---|").unwrap();
@@ -118,12 +120,15 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
         .skip_while(|a| a != "--only")
         .nth(1)
         .unwrap_or_default();
+    let mut rates = std::collections::HashMap::new();
+    let mut md_peers = String::new();
     let mut row =
         |rays: &str, q: &str, how: &str, tier: &str, n: usize, f: &mut dyn FnMut() -> u64| {
             if !format!("{rays} {q} {how} {tier}").contains(&only) {
                 return;
             }
             let (t, hits) = best(runs, f);
+            rates.insert(format!("{rays}|{q}|{how}|{tier}"), n as f64 / t / 1e6);
             writeln!(
                 md,
                 "| {rays} | {q} | {how} | {tier} | {:.2} | {hits} |",
@@ -216,6 +221,101 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
         bounce.len(),
         &mut || singles_any::<f32x8, Watertight>(wr, &bounce),
     );
+    // Peers, same rays, same run.
+    let (ob, ob_build) = ObvhsScene::build(&s.tris);
+    let (bv, bv_build) = BvhScene::build(&s.tris);
+    row(
+        "primary",
+        "closest",
+        "single ray",
+        "obvhs 0.4 (CWBVH)",
+        p8.len(),
+        &mut || ob.closest(&p8),
+    );
+    row(
+        "primary",
+        "any",
+        "single ray",
+        "obvhs 0.4 (CWBVH)",
+        p8.len(),
+        &mut || ob.any(&p8),
+    );
+    row(
+        "diffuse bounce",
+        "closest",
+        "single ray",
+        "obvhs 0.4 (CWBVH)",
+        bounce.len(),
+        &mut || ob.closest(&bounce),
+    );
+    row(
+        "primary",
+        "closest",
+        "single ray",
+        "bvh 0.13",
+        p8.len(),
+        &mut || bv.closest(&p8),
+    );
+    let mut builds = vec![
+        (
+            "obvhs 0.4 (CWBVH, medium_build)".to_string(),
+            ob_build.as_secs_f64(),
+        ),
+        ("bvh 0.13".to_string(), bv_build.as_secs_f64()),
+    ];
+    for robust in [true, false] {
+        let mode = if robust { "robust" } else { "fast" };
+        match EmbreeScene::build(&s.tris, robust) {
+            Ok((em, built)) => {
+                builds.push((format!("Embree 3 {mode}"), built.as_secs_f64()));
+                let name = format!("Embree 3 {mode}");
+                row(
+                    "primary",
+                    "closest",
+                    "packet-8 (rtcIntersect8)",
+                    &name,
+                    p8.len(),
+                    &mut || em.closest8(&p8),
+                );
+                row(
+                    "primary",
+                    "closest",
+                    "single ray (rtcIntersect1)",
+                    &name,
+                    p8.len(),
+                    &mut || em.closest1(&p8),
+                );
+                row(
+                    "primary",
+                    "any",
+                    "packet-8 (rtcOccluded8)",
+                    &name,
+                    p8.len(),
+                    &mut || em.any8(&p8),
+                );
+                row(
+                    "primary",
+                    "any",
+                    "single ray (rtcOccluded1)",
+                    &name,
+                    p8.len(),
+                    &mut || em.any1(&p8),
+                );
+                row(
+                    "diffuse bounce",
+                    "closest",
+                    "single ray (rtcIntersect1)",
+                    &name,
+                    bounce.len(),
+                    &mut || em.closest1(&bounce),
+                );
+            }
+            Err(e) => {
+                writeln!(md_peers, "Embree rows skipped: {e}.").unwrap();
+                break;
+            }
+        }
+    }
     let threads = rayon::current_num_threads();
     let (t, _) = best(runs, || {
         p8.par_chunks(1024)
@@ -240,6 +340,69 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
         bounce.len() as f64 / t / 1e6
     )
     .unwrap();
+    md.push_str(&md_peers);
+    let builds_line: Vec<String> = builds
+        .iter()
+        .map(|(n, t)| format!("{n} {t:.3} s"))
+        .collect();
+    writeln!(
+        md,
+        "\nPeers' builds (1 thread): {}; octoray {build_s:.3} s.",
+        builds_line.join(", ")
+    )
+    .unwrap();
+    let ratio = |a: &str, b: &str| match (rates.get(a), rates.get(b)) {
+        (Some(x), Some(y)) => format!("{:.2}×", x / y),
+        _ => "n/a".into(),
+    };
+    writeln!(
+        md,
+        "\n| target (1 thread) | octoray row | peer row | ratio |"
+    )
+    .unwrap();
+    writeln!(md, "|---|---|---|---|").unwrap();
+    for (what, a, b) in [
+        (
+            "primary packet-8 ≥ 1.2× Embree robust rtcIntersect8",
+            "primary|closest|packet-8 (4×2 tiles)|watertight",
+            "primary|closest|packet-8 (rtcIntersect8)|Embree 3 robust",
+        ),
+        (
+            "primary single ray ≥ 1.2× Embree robust rtcIntersect1",
+            "primary|closest|single ray (leaves ×8)|watertight",
+            "primary|closest|single ray (rtcIntersect1)|Embree 3 robust",
+        ),
+        (
+            "diffuse bounce ≥ 1.2× Embree robust rtcIntersect1",
+            "diffuse bounce|closest|single ray|watertight",
+            "diffuse bounce|closest|single ray (rtcIntersect1)|Embree 3 robust",
+        ),
+        (
+            "primary single ray ≥ 2× obvhs",
+            "primary|closest|single ray (leaves ×8)|watertight",
+            "primary|closest|single ray|obvhs 0.4 (CWBVH)",
+        ),
+        (
+            "primary any hit ≥ 2× obvhs",
+            "primary|any|single ray|watertight",
+            "primary|any|single ray|obvhs 0.4 (CWBVH)",
+        ),
+        (
+            "diffuse bounce ≥ 2× obvhs",
+            "diffuse bounce|closest|single ray|watertight",
+            "diffuse bounce|closest|single ray|obvhs 0.4 (CWBVH)",
+        ),
+    ] {
+        let show = |k: &str| k.replace('|', ", ");
+        writeln!(
+            md,
+            "| {what} | {} | {} | {} |",
+            show(a),
+            show(b),
+            ratio(a, b)
+        )
+        .unwrap();
+    }
 }
 
 fn main() {

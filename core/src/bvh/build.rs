@@ -4,17 +4,26 @@
 //! Deterministic: plain f32 arithmetic in a fixed order, no hashing, no threads, ties broken by
 //! primitive index, so the same input gives the same tree bit for bit on every build.
 
-use super::{slab::widen, Bvh8Node, Bvh8Ref, BvhError, MAX_DEPTH, MAX_PRIMS, WIDTH};
-use crate::prim::{Aabb, Primitive};
+use super::{slab::widen, Bvh8Node, Bvh8Ref, BvhError, MAX_DEPTH, MAX_PRIMS, PAD, WIDTH};
+use crate::prim::{Aabb, Primitive, BLOCK};
 use alloc::vec;
 use alloc::vec::Vec;
 
 /// Number of SAH bins per axis.
 const BINS: usize = 32;
 /// Largest leaf.
-const MAX_LEAF: usize = 8;
-/// SAH cost of visiting a node, relative to one primitive test.
+const MAX_LEAF: usize = BLOCK;
+/// SAH cost of visiting a node, relative to testing one block of [`BLOCK`] primitives (one ray
+/// against a node's eight boxes costs about what it costs against eight triangles at once).
 const TRAVERSAL_COST: f32 = 1.0;
+/// SAH cost of testing one block.
+const BLOCK_COST: f32 = 1.0;
+
+/// SAH cost of testing `n` primitives: whole blocks.
+#[inline]
+fn leaf_cost(n: usize) -> f32 {
+    n.div_ceil(BLOCK) as f32 * BLOCK_COST
+}
 /// Binary depth from which splits are by count (balanced), so the tree stays within
 /// [`MAX_DEPTH`] whatever the input.
 const BALANCED_FROM: usize = MAX_DEPTH - 34;
@@ -23,9 +32,10 @@ const BALANCED_FROM: usize = MAX_DEPTH - 34;
 #[derive(Clone, Debug)]
 pub struct Bvh8<P> {
     nodes: Vec<Bvh8Node>,
-    prims: Vec<P>,
+    blocks: Vec<[f32; BLOCK]>,
     ids: Vec<u32>,
     stats: BuildStats,
+    _prim: core::marker::PhantomData<P>,
 }
 
 /// Figures of a built tree.
@@ -41,11 +51,14 @@ pub struct BuildStats {
     pub leaves: usize,
     /// Depth in nodes (the root is 1).
     pub depth: usize,
-    /// SAH cost of the 8-wide tree: `Σ area(node)/area(root)·TRAVERSAL_COST + Σ
-    /// area(leaf)/area(root)·count`.
+    /// SAH cost of the 8-wide tree with the conventional unit costs: `Σ area(node)/area(root) +
+    /// Σ area(leaf)/area(root)·count` (one per node visit, one per primitive test; comparable
+    /// across libraries).
     pub sah_cost: f32,
-    /// Bytes of nodes + primitives + indices per primitive.
+    /// Bytes of nodes + primitive blocks (leaves padded to whole blocks) + indices per primitive.
     pub bytes_per_prim: f32,
+    /// Share of block slots that hold a primitive (the rest is leaf padding).
+    pub block_fill: f32,
 }
 
 struct BinNode {
@@ -92,8 +105,12 @@ impl<P: Primitive> Bvh8<P> {
             split(&mut bin, &boxes, &centers, &mut local, 0, refs.len(), 0);
         }
 
-        // Collapse into 8-wide nodes, parents before children.
+        // Collapse into 8-wide nodes, parents before children; each leaf's primitives go out in
+        // whole SoA blocks as the leaf is placed.
         let mut nodes = Vec::new();
+        let mut blocks: Vec<[f32; BLOCK]> = Vec::new();
+        let mut ids: Vec<u32> = Vec::new();
+        let mut chunk: Vec<P> = Vec::with_capacity(BLOCK);
         let mut stats = BuildStats {
             prims: refs.len(),
             skipped,
@@ -104,7 +121,7 @@ impl<P: Primitive> Bvh8<P> {
             // Work list: (binary node to expand into a wide node, wide node slot to fill, depth).
             nodes.push(Bvh8Node::EMPTY);
             let mut work = vec![(0usize, 0usize, 1usize)];
-            stats.sah_cost += TRAVERSAL_COST;
+            stats.sah_cost += 1.0;
             while let Some((b, w, depth)) = work.pop() {
                 stats.depth = stats.depth.max(depth);
                 let mut kids: Vec<usize> = if bin[b].left == usize::MAX {
@@ -139,14 +156,24 @@ impl<P: Primitive> Bvh8<P> {
                     }
                     let area = bin[k].bounds.half_area() / root_area;
                     if bin[k].left == usize::MAX {
-                        node.child[s] = bin[k].start as u32;
-                        node.count[s] = bin[k].count as u32;
+                        let (start, count) = (bin[k].start, bin[k].count);
+                        node.child[s] = ids.len() as u32;
+                        node.count[s] = count as u32;
+                        for part in local[start..start + count].chunks(BLOCK) {
+                            chunk.clear();
+                            chunk.extend(part.iter().map(|&l| prims[refs[l as usize] as usize]));
+                            let at = blocks.len();
+                            blocks.resize(at + P::WORDS, [0.0; BLOCK]);
+                            P::write_block(&chunk, &mut blocks[at..]);
+                            ids.extend(part.iter().map(|&l| refs[l as usize]));
+                            ids.resize(ids.len().next_multiple_of(BLOCK), PAD);
+                        }
                         stats.leaves += 1;
                         stats.sah_cost += area * bin[k].count as f32;
                     } else {
                         node.child[s] = nodes.len() as u32;
                         node.count[s] = 0;
-                        stats.sah_cost += area * TRAVERSAL_COST;
+                        stats.sah_cost += area;
                         nodes.push(Bvh8Node::EMPTY);
                         work.push((k, nodes.len() - 1, depth + 1));
                     }
@@ -154,27 +181,25 @@ impl<P: Primitive> Bvh8<P> {
                 nodes[w] = node;
             }
         }
-        // Depth-first order would suit caches better; children already follow parents, which is
-        // all traversal and validation need.
-        let prims_out: Vec<P> = local
-            .iter()
-            .map(|&l| prims[refs[l as usize] as usize])
-            .collect();
-        let ids: Vec<u32> = local.iter().map(|&l| refs[l as usize]).collect();
+        if ids.len() > MAX_PRIMS {
+            // Leaf padding took the block slots past u32 indices.
+            return Err(BvhError::TooManyPrims(ids.len()));
+        }
         stats.nodes = nodes.len();
         let bytes = nodes.len() * core::mem::size_of::<Bvh8Node>()
-            + prims_out.len() * (core::mem::size_of::<P>() + 4);
-        stats.bytes_per_prim = if refs.is_empty() {
-            0.0
-        } else {
-            bytes as f32 / refs.len() as f32
-        };
+            + blocks.len() * core::mem::size_of::<[f32; BLOCK]>()
+            + ids.len() * 4;
+        if !refs.is_empty() {
+            stats.bytes_per_prim = bytes as f32 / refs.len() as f32;
+            stats.block_fill = refs.len() as f32 / ids.len() as f32;
+        }
         debug_assert!(stats.depth <= MAX_DEPTH);
         Ok(Self {
             nodes,
-            prims: prims_out,
+            blocks,
             ids,
             stats,
+            _prim: core::marker::PhantomData,
         })
     }
 
@@ -182,8 +207,9 @@ impl<P: Primitive> Bvh8<P> {
     pub fn as_ref(&self) -> Bvh8Ref<'_, P> {
         Bvh8Ref {
             nodes: &self.nodes,
-            prims: &self.prims,
+            blocks: &self.blocks,
             ids: &self.ids,
+            _prim: core::marker::PhantomData,
         }
     }
 
@@ -192,12 +218,13 @@ impl<P: Primitive> Bvh8<P> {
         &self.nodes
     }
 
-    /// The primitives in leaf order.
-    pub fn prims(&self) -> &[P] {
-        &self.prims
+    /// The primitives in leaf order, in SoA blocks (see [`Bvh8Ref::new`] for the layout;
+    /// `bytemuck::cast_slice` them to bytes to store the tree).
+    pub fn blocks(&self) -> &[[f32; BLOCK]] {
+        &self.blocks
     }
 
-    /// `ids()[k]`: the caller's index of `prims()[k]`.
+    /// `ids()[k]`: the caller's index of the primitive in block slot `k` ([`PAD`] on padding).
     pub fn ids(&self) -> &[u32] {
         &self.ids
     }
@@ -239,7 +266,7 @@ fn split(
     }
 
     // Best binned split over the three axes.
-    let leaf_cost = n as f32;
+    let leaf = leaf_cost(n);
     let area = bounds.half_area();
     let mut best: Option<(f32, usize, usize)> = None; // (cost, axis, bins on the left)
     if depth < BALANCED_FROM {
@@ -262,7 +289,7 @@ fn split(
             for b in (1..BINS).rev() {
                 acc = acc.union(bb[b]);
                 c += cnt[b];
-                right[b] = acc.half_area() * c as f32;
+                right[b] = acc.half_area() * leaf_cost(c);
             }
             let (mut acc, mut c) = (Aabb::EMPTY, 0usize);
             for b in 0..BINS - 1 {
@@ -272,7 +299,7 @@ fn split(
                     continue;
                 }
                 let cost = TRAVERSAL_COST
-                    + (acc.half_area() * c as f32 + right[b + 1]) / area.max(f32::MIN_POSITIVE);
+                    + (acc.half_area() * leaf_cost(c) + right[b + 1]) / area.max(f32::MIN_POSITIVE);
                 if best.is_none_or(|(bc, _, _)| cost < bc) {
                     best = Some((cost, axis, b + 1));
                 }
@@ -281,7 +308,7 @@ fn split(
     }
 
     let mid = match best {
-        Some((cost, _, _)) if n <= MAX_LEAF && cost >= leaf_cost => return me,
+        Some((cost, _, _)) if n <= MAX_LEAF && cost >= leaf => return me,
         Some((_, axis, nb)) => {
             let (lo, hi) = (cb.lo[axis], cb.hi[axis]);
             let scale = BINS as f32 / (hi - lo);

@@ -3,12 +3,12 @@
 //! - [`Bvh8Node`]: one node, eight children's boxes in SoA (`lo[axis][child]`,
 //!   `hi[axis][child]`, f32) and their references; 256 bytes, `bytemuck::Pod`.
 //! - [`Bvh8`] (feature `alloc`): the owned tree, built by top-down binned SAH ([`Bvh8::build`]).
-//! - [`Bvh8Ref`]: the same tree as three borrowed slices (nodes, primitives in leaf order, their
-//!   indices in the caller's slice). Traversal needs nothing else: no allocator, no `std`. A tree
+//! - [`Bvh8Ref`]: the same tree as three borrowed slices (nodes, the primitives in leaf order in
+//!   SoA blocks of [`BLOCK`], their indices in the caller's slice). Traversal needs nothing else: no allocator, no `std`. A tree
 //!   built on a host can be written out with `bytemuck` and traversed on a target from
 //!   `&'static` data, after [`Bvh8Ref::new`] has validated it.
 //! - Traversal ([`traverse`]): single rays (one ray against the eight children of a node in one
-//!   `f32x8` box test; leaves tested `L::LANES` primitives at a time) and packets (the packet's
+//!   `f32x8` box test; leaves tested a block at a time, one vector load per word) and packets (the packet's
 //!   active mask goes down the tree together; a packet that thins out continues ray by ray),
 //!   generic over the kernel tiers and the query kinds.
 //!
@@ -38,6 +38,7 @@ pub mod slab;
 pub mod traverse;
 
 use crate::prim::Primitive;
+pub use crate::prim::BLOCK;
 
 /// Children per node.
 pub const WIDTH: usize = 8;
@@ -55,11 +56,14 @@ pub(crate) const STACK: usize = (WIDTH - 1) * MAX_DEPTH + 1;
 /// A child slot that holds nothing.
 pub const EMPTY: u32 = u32::MAX;
 
+/// The index of a padding slot in a leaf's last block (never reported: traversal masks it off).
+pub const PAD: u32 = u32::MAX;
+
 /// One node: the boxes of up to eight children in SoA, and what each child is.
 ///
 /// Slot `i` is empty when `child[i] == EMPTY`; an inner node when `count[i] == 0` (`child[i]` is
 /// its index in the node slice, always greater than this node's); a leaf of `count[i]`
-/// primitives starting at `child[i]` in the leaf-ordered primitive slice otherwise. Used slots
+/// primitives starting at block slot `child[i]` (a multiple of [`BLOCK`]) otherwise. Used slots
 /// come first. Boxes are already widened by the build slack.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
@@ -99,10 +103,11 @@ impl Bvh8Node {
 /// Why a set of slices is not a valid tree.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BvhError {
-    /// `prims` and `ids` have different lengths.
+    /// `blocks` does not hold `WORDS` rows per [`BLOCK`] indices, or `ids` is not a whole number
+    /// of blocks.
     LengthMismatch {
-        /// Primitives.
-        prims: usize,
+        /// Block rows.
+        blocks: usize,
         /// Indices.
         ids: usize,
     },
@@ -111,7 +116,7 @@ pub enum BvhError {
         /// The node holding the slot.
         node: usize,
     },
-    /// A leaf's primitive range lies outside the primitive slice.
+    /// A leaf's primitive range lies outside the blocks or does not start a block.
     BadLeaf {
         /// The node holding the slot.
         node: usize,
@@ -125,8 +130,8 @@ pub enum BvhError {
 impl core::fmt::Display for BvhError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
-            BvhError::LengthMismatch { prims, ids } => {
-                write!(f, "{prims} primitives but {ids} indices")
+            BvhError::LengthMismatch { blocks, ids } => {
+                write!(f, "{blocks} block rows do not hold {ids} indices")
             }
             BvhError::BadNodeRef { node } => write!(f, "node {node} refers to a bad child node"),
             BvhError::BadLeaf { node } => {
@@ -146,8 +151,9 @@ impl core::error::Error for BvhError {}
 #[derive(Debug)]
 pub struct Bvh8Ref<'a, P> {
     nodes: &'a [Bvh8Node],
-    prims: &'a [P],
+    blocks: &'a [[f32; BLOCK]],
     ids: &'a [u32],
+    _prim: core::marker::PhantomData<P>,
 }
 
 impl<P> Clone for Bvh8Ref<'_, P> {
@@ -159,18 +165,28 @@ impl<P> Copy for Bvh8Ref<'_, P> {}
 
 impl<'a, P: Primitive> Bvh8Ref<'a, P> {
     /// Validates and wraps a tree's slices: `nodes[0]` is the root (an empty node slice is an
-    /// empty scene), `prims` the primitives in leaf order, `ids[k]` the caller's index of
-    /// `prims[k]`. Every slot is checked (child nodes after their parent, leaves inside `prims`,
-    /// depth ≤ [`MAX_DEPTH`]), so traversal of a validated tree never indexes out of bounds.
-    pub fn new(nodes: &'a [Bvh8Node], prims: &'a [P], ids: &'a [u32]) -> Result<Self, BvhError> {
-        if prims.len() != ids.len() {
+    /// empty scene); `blocks` the primitives in leaf order, in SoA blocks of [`BLOCK`]: block
+    /// slot `k` is primitive `k % BLOCK` of block `k / BLOCK`, whose rows are
+    /// `blocks[(k / BLOCK)·WORDS ..][..WORDS]` (row `w` holds word `w` of the block's primitives,
+    /// [`Primitive::write_block`]); `ids[k]` the caller's index of slot `k` ([`PAD`] on a leaf's
+    /// padding). Every slot is checked (child nodes after their parent, leaves starting a block
+    /// and inside the blocks, depth ≤ [`MAX_DEPTH`]), so traversal of a validated tree never
+    /// indexes out of bounds.
+    pub fn new(
+        nodes: &'a [Bvh8Node],
+        blocks: &'a [[f32; BLOCK]],
+        ids: &'a [u32],
+    ) -> Result<Self, BvhError> {
+        if !ids.len().is_multiple_of(BLOCK)
+            || Some(blocks.len()) != (ids.len() / BLOCK).checked_mul(P::WORDS)
+        {
             return Err(BvhError::LengthMismatch {
-                prims: prims.len(),
+                blocks: blocks.len(),
                 ids: ids.len(),
             });
         }
-        if prims.len() > MAX_PRIMS {
-            return Err(BvhError::TooManyPrims(prims.len()));
+        if ids.len() > MAX_PRIMS {
+            return Err(BvhError::TooManyPrims(ids.len()));
         }
         for (i, n) in nodes.iter().enumerate() {
             let mut ended = false;
@@ -187,9 +203,10 @@ impl<'a, P: Primitive> Bvh8Ref<'a, P> {
                     if (c as usize) <= i || (c as usize) >= nodes.len() {
                         return Err(BvhError::BadNodeRef { node: i });
                     }
-                } else if (c as usize)
-                    .checked_add(k as usize)
-                    .is_none_or(|e| e > prims.len())
+                } else if !(c as usize).is_multiple_of(BLOCK)
+                    || (c as usize)
+                        .checked_add(k as usize)
+                        .is_none_or(|e| e > ids.len())
                 {
                     return Err(BvhError::BadLeaf { node: i });
                 }
@@ -217,7 +234,12 @@ impl<'a, P: Primitive> Bvh8Ref<'a, P> {
                 }
             }
         }
-        Ok(Self { nodes, prims, ids })
+        Ok(Self {
+            nodes,
+            blocks,
+            ids,
+            _prim: core::marker::PhantomData,
+        })
     }
 
     /// The nodes (root first).
@@ -225,12 +247,20 @@ impl<'a, P: Primitive> Bvh8Ref<'a, P> {
         self.nodes
     }
 
-    /// The primitives in leaf order.
-    pub fn prims(&self) -> &'a [P] {
-        self.prims
+    /// The primitives in leaf order, in SoA blocks ([`Bvh8Ref::new`] gives the layout).
+    pub fn blocks(&self) -> &'a [[f32; BLOCK]] {
+        self.blocks
     }
 
-    /// `ids()[k]`: the caller's index of `prims()[k]`.
+    /// Rows of the block holding slot `k`.
+    #[cfg(feature = "wide")]
+    #[inline(always)]
+    pub(crate) fn block_of(&self, k: usize) -> &'a [[f32; BLOCK]] {
+        let at = k / BLOCK * P::WORDS;
+        &self.blocks[at..at + P::WORDS]
+    }
+
+    /// `ids()[k]`: the caller's index of the primitive in block slot `k` ([`PAD`] on padding).
     pub fn ids(&self) -> &'a [u32] {
         self.ids
     }

@@ -2,7 +2,7 @@
 //!
 //! | call | rays | how |
 //! |---|---|---|
-//! | [`closest_ray`], [`occluded_ray`] | one | one `f32x8` box test per node (its eight children), children visited near-first; leaves tested `L::LANES` primitives at a time ([`Primitive::gather`]) |
+//! | [`closest_ray`], [`occluded_ray`] | one | one `f32x8` box test per node (its eight children), children visited near-first; leaves tested a SoA block of [`BLOCK`] primitives at a time ([`Primitive::load_block`]) |
 //! | [`closest_packet`], [`closest_t_packet`], [`occluded_packet`] | `L::LANES` | the packet's active mask goes down the tree together, children visited near-first by the packet's entry distance; when a node is reached by at most a quarter of the lanes (and at most 2), those continue ray by ray (hybrid traversal) |
 //! | [`closest`], [`occluded`] | any slice | packets where a packet's rays share a direction octant (coherent), single rays elsewhere |
 //!
@@ -16,7 +16,7 @@ use crate::hit::Hit;
 use crate::kernels::{barycentrics, Kernel};
 use crate::lanes::V3;
 use crate::lanes::{LaneMask, Lanes, Scalar};
-use crate::prim::Primitive;
+use crate::prim::{Primitive, BLOCK};
 use crate::prim::{Ray, RayLanes};
 use crate::query::ClosestHit;
 use arrayvec::ArrayVec;
@@ -127,33 +127,38 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
             continue;
         }
         if e.count > 0 {
-            let first = e.child as usize;
-            let prims = &bvh.prims[first..first + e.count as usize];
-            for (c, chunk) in prims.chunks(L::LANES).enumerate() {
-                ray.active = L::first_lanes(chunk.len());
-                ray.t_max = if K::EXACT_T_MAX {
-                    rl.t_max
-                } else {
-                    L::splat_scalar(bound(t_max, best))
-                };
-                let h = K::intersect_lanes(&ray, pre, &<K::Prim as Primitive>::gather(chunk));
-                let mut bits = h.mask.bitmask();
-                if ANY && bits != 0 {
-                    return true;
-                }
-                while bits != 0 {
-                    let i = bits.trailing_zeros() as usize;
-                    bits &= bits - 1;
-                    let t = h.t.lane(i);
-                    let id = bvh.ids[first + c * L::LANES + i];
-                    if better(t, id, best) {
-                        *best = Some(Best {
-                            t,
-                            u: h.u.lane(i),
-                            v: h.v.lane(i),
-                            scale: h.scale.lane(i),
-                            id,
-                        });
+            let (first, count) = (e.child as usize, e.count as usize);
+            // One block at a time; at fewer than BLOCK lanes, a block in several calls.
+            for at in (first..first + count).step_by(BLOCK) {
+                let block = bvh.block_of(at);
+                let in_block = (first + count - at).min(BLOCK);
+                for sub in (0..in_block).step_by(L::LANES) {
+                    ray.active = L::first_lanes(in_block - sub);
+                    ray.t_max = if K::EXACT_T_MAX {
+                        rl.t_max
+                    } else {
+                        L::splat_scalar(bound(t_max, best))
+                    };
+                    let prims = <K::Prim as Primitive>::load_block::<L>(block, sub);
+                    let h = K::intersect_lanes(&ray, pre, &prims);
+                    let mut bits = h.mask.bitmask();
+                    if ANY && bits != 0 {
+                        return true;
+                    }
+                    while bits != 0 {
+                        let i = bits.trailing_zeros() as usize;
+                        bits &= bits - 1;
+                        let t = h.t.lane(i);
+                        let id = bvh.ids[at + sub + i];
+                        if better(t, id, best) {
+                            *best = Some(Best {
+                                t,
+                                u: h.u.lane(i),
+                                v: h.v.lane(i),
+                                scale: h.scale.lane(i),
+                                id,
+                            });
+                        }
                     }
                 }
             }
@@ -337,7 +342,8 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
             ray.active = live;
             for k in first..first + e.count as usize {
                 ray.t_max = if K::EXACT_T_MAX { rays.t_max } else { cull };
-                let h = K::intersect(&ray, &pre, &bvh.prims[k]);
+                let prim = <K::Prim as Primitive>::from_block(bvh.block_of(k), k % BLOCK);
+                let h = K::intersect(&ray, &pre, &prim);
                 if h.mask.none() {
                     continue;
                 }

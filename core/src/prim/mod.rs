@@ -88,43 +88,130 @@ fn up(x: f32) -> f32 {
     x.next_up()
 }
 
-/// A primitive layout: plain `f32` data (`bytemuck::Pod`) that a kernel reads as lanes.
+/// Primitives per SoA block: a BVH leaf stores its primitives in blocks of `BLOCK`, word by word
+/// (row `w` of a block holds word `w` of its `BLOCK` primitives), so that one ray is tested
+/// against a block with one vector load per word instead of a gather.
+pub const BLOCK: usize = 8;
+
+/// A primitive layout: plain `f32` data (`bytemuck::Pod`, [`Primitive::WORDS`] words) that a
+/// kernel reads as lanes.
 pub trait Primitive: Copy + bytemuck::Pod {
     /// The layout's fields as lanes (one primitive per lane, or one broadcast to all).
     type Lanes<L: Lanes>: Copy;
+    /// `f32` words per primitive (the layout is `WORDS` plain `f32`s).
+    const WORDS: usize = core::mem::size_of::<Self>() / 4;
     /// `self` in every lane.
     fn splat<L: Lanes>(&self) -> Self::Lanes<L>;
+    /// The lanes of primitives read word by word from `words` (lane `i` holds primitive `i` of
+    /// the source). The one body behind [`Primitive::gather`] and [`Primitive::load_block`].
+    fn from_words<L: Lanes, W: Words>(words: &W) -> Self::Lanes<L>;
     /// `prims[i]` in lane `i` for `i < prims.len()` (at most `L::LANES`); the other lanes hold a
     /// zero primitive, which no kernel hits (callers also mask them off).
-    fn gather<L: Lanes>(prims: &[Self]) -> Self::Lanes<L>;
+    #[inline(always)]
+    fn gather<L: Lanes>(prims: &[Self]) -> Self::Lanes<L> {
+        Self::from_words::<L, _>(&Rows(padded(prims)))
+    }
+    /// Primitives `first..` of a SoA block (`block` is its [`Primitive::WORDS`] rows) in lanes
+    /// `0..`; lanes past the block's end hold zero words. At [`BLOCK`] or more lanes `first` is
+    /// 0 (one call reads the whole block, one vector load per word at `BLOCK` lanes).
+    ///
+    /// # Panics
+    /// When `block` has fewer than `WORDS` rows.
+    #[inline(always)]
+    fn load_block<L: Lanes>(block: &[[f32; BLOCK]], first: usize) -> Self::Lanes<L> {
+        debug_assert!(first == 0 || L::LANES < BLOCK);
+        Self::from_words::<L, _>(&BlockRows {
+            rows: &block[..Self::WORDS],
+            first,
+        })
+    }
+    /// Primitive `i` of a SoA block.
+    #[inline(always)]
+    fn from_block(block: &[[f32; BLOCK]], i: usize) -> Self {
+        let mut p = Self::zeroed();
+        let w: &mut [f32] = bytemuck::cast_slice_mut(core::slice::from_mut(&mut p));
+        for (k, x) in w.iter_mut().enumerate() {
+            *x = block[k][i];
+        }
+        p
+    }
+    /// Writes `prims` (at most [`BLOCK`]) into a SoA block's rows, zero words after them.
+    ///
+    /// # Panics
+    /// When `prims.len() > BLOCK` or `block` has fewer than `WORDS` rows.
+    fn write_block(prims: &[Self], block: &mut [[f32; BLOCK]]) {
+        assert!(
+            prims.len() <= BLOCK,
+            "octoray: a block holds {BLOCK} primitives"
+        );
+        for row in block[..Self::WORDS].iter_mut() {
+            *row = [0.0; BLOCK];
+        }
+        for (i, p) in prims.iter().enumerate() {
+            let w: &[f32] = bytemuck::cast_slice(core::slice::from_ref(p));
+            for (k, &x) in w.iter().enumerate() {
+                block[k][i] = x;
+            }
+        }
+    }
     /// A box holding the primitive exactly as the kernels read it; `None` when a coordinate is
     /// not finite (such a primitive can never be hit).
     fn bounds(&self) -> Option<Aabb>;
 }
 
+/// A source of primitives' `f32` words for [`Primitive::from_words`]: word `k` of the primitive
+/// in each lane. Implemented by the two storage orders, primitives one after another (what
+/// [`Primitive::gather`] reads) and SoA blocks (what [`Primitive::load_block`] reads).
+pub trait Words {
+    /// Word `k` of each lane's primitive.
+    fn word<L: Lanes>(&self, k: usize) -> L;
+    /// Words `k..k + 3` as a lane vector.
+    #[inline(always)]
+    fn word3<L: Lanes>(&self, k: usize) -> V3<L> {
+        V3::new(self.word(k), self.word(k + 1), self.word(k + 2))
+    }
+}
+
 /// Most lanes any [`Lanes`] type has.
 const MAX_LANES: usize = 16;
 
-/// The first `min(len, 16)` primitives, then zero primitives: a fixed-size copy, so that reading
+/// Primitives one after another, padded to [`MAX_LANES`] with zero primitives so that reading
 /// lane `i` needs no bounds check and no branch.
+pub struct Rows<P>([P; MAX_LANES]);
+
+impl<P: bytemuck::Pod> Words for Rows<P> {
+    #[inline(always)]
+    fn word<L: Lanes>(&self, k: usize) -> L {
+        let n = core::mem::size_of::<P>() / 4;
+        let flat: &[f32] = bytemuck::cast_slice(&self.0);
+        L::from_fn(|i| <L::Scalar as crate::lanes::Scalar>::from_f32(flat[i * n + k]))
+    }
+}
+
+/// A SoA block's rows, read from primitive `first` on.
+pub struct BlockRows<'a> {
+    rows: &'a [[f32; BLOCK]],
+    first: usize,
+}
+
+impl Words for BlockRows<'_> {
+    #[inline(always)]
+    fn word<L: Lanes>(&self, k: usize) -> L {
+        let row = &self.rows[k];
+        // At BLOCK or more lanes `first` is 0 (a block fills one call): a plain load.
+        let first = if L::LANES >= BLOCK { 0 } else { self.first };
+        L::from_fn(|i| {
+            let j = first + i;
+            <L::Scalar as crate::lanes::Scalar>::from_f32(if j < BLOCK { row[j] } else { 0.0 })
+        })
+    }
+}
+
+/// The first `min(len, 16)` primitives, then zero primitives.
 #[inline(always)]
 fn padded<P: bytemuck::Pod>(prims: &[P]) -> [P; MAX_LANES] {
     let mut a = [P::zeroed(); MAX_LANES];
     let n = prims.len().min(MAX_LANES);
     a[..n].copy_from_slice(&prims[..n]);
     a
-}
-
-/// Field `k` (in `f32` units) of each primitive, one per lane.
-#[inline(always)]
-fn field<L: Lanes, P: bytemuck::Pod>(prims: &[P; MAX_LANES], k: usize) -> L {
-    let n = core::mem::size_of::<P>() / 4;
-    let flat: &[f32] = bytemuck::cast_slice(prims);
-    L::from_fn(|i| <L::Scalar as crate::lanes::Scalar>::from_f32(flat[i * n + k]))
-}
-
-/// Three `f32` fields starting at `k` as a lane vector.
-#[inline(always)]
-fn field3<L: Lanes, P: bytemuck::Pod>(prims: &[P; MAX_LANES], k: usize) -> V3<L> {
-    V3::new(field(prims, k), field(prims, k + 1), field(prims, k + 2))
 }

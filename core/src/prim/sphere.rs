@@ -1,7 +1,7 @@
 //! Sphere layouts: [`Sphere`] (centre and radius) and [`PackedSphere`] (what the sphere kernels
 //! read), and their lanes.
 
-use super::{down, field, field3, padded, up, Aabb, Primitive};
+use super::{down, up, Aabb, Primitive, Words};
 use crate::lanes::{Lanes, V3};
 use glam::Vec3;
 
@@ -84,11 +84,10 @@ impl Primitive for PackedSphere {
         }
     }
     #[inline(always)]
-    fn gather<L: Lanes>(prims: &[Self]) -> SphereLanes<L> {
-        let prims = &padded(prims);
+    fn from_words<L: Lanes, W: Words>(w: &W) -> SphereLanes<L> {
         SphereLanes {
-            center: field3(prims, 0),
-            radius_sq: field(prims, 3),
+            center: w.word3(0),
+            radius_sq: w.word(3),
         }
     }
     fn bounds(&self) -> Option<Aabb> {

@@ -2,7 +2,7 @@
 //! triangle as given, what the watertight kernel and the textbook read) and [`PackedTriangle`]
 //! (`v0` and two edges: what Möller-Trumbore reads), and their lanes.
 
-use super::{down, field3, padded, up, Aabb, Primitive};
+use super::{down, up, Aabb, Primitive, Words};
 use crate::lanes::{Lanes, Scalar, V3};
 use glam::Vec3;
 
@@ -118,14 +118,13 @@ impl Primitive for PackedTriangle {
         }
     }
     #[inline(always)]
-    fn gather<L: Lanes>(prims: &[Self]) -> EdgeLanes<L> {
-        let prims = &padded(prims);
-        let (e1, e2) = (field3(prims, 3), field3(prims, 6));
+    fn from_words<L: Lanes, W: Words>(w: &W) -> EdgeLanes<L> {
+        let (e1, e2) = (w.word3(3), w.word3(6));
         EdgeLanes {
-            v0: field3(prims, 0),
+            v0: w.word3(0),
             e1,
             e2,
-            ng: normal_lanes(field3(prims, 9), e1, e2),
+            ng: normal_lanes(w.word3(9), e1, e2),
         }
     }
     fn bounds(&self) -> Option<Aabb> {
@@ -168,12 +167,11 @@ impl Primitive for VertexTriangle {
         }
     }
     #[inline(always)]
-    fn gather<L: Lanes>(prims: &[Self]) -> VertexLanes<L> {
-        let prims = &padded(prims);
+    fn from_words<L: Lanes, W: Words>(w: &W) -> VertexLanes<L> {
         VertexLanes {
-            v0: field3(prims, 0),
-            v1: field3(prims, 3),
-            v2: field3(prims, 6),
+            v0: w.word3(0),
+            v1: w.word3(3),
+            v2: w.word3(6),
         }
     }
     fn bounds(&self) -> Option<Aabb> {

@@ -1,0 +1,336 @@
+//! Embree 3 as a benchmark peer, through its C API loaded at run time (`libembree3.so.3`, Debian's
+//! `libembree-dev`), so that a machine without it builds and runs every benchmark and reports the
+//! Embree rows as skipped.
+//!
+//! The shim declares the handful of entry points and the ray structures of `rtcore_ray.h` for
+//! `RTC_MAX_INSTANCE_LEVEL_COUNT = 1` and `RTC_MIN_WIDTH = 0` (Debian's build). The scene is a
+//! triangle soup (vertex buffer of `3n` points, index buffer `3i, 3i + 1, 3i + 2`), built on a
+//! device with `threads=1`; robust mode is `RTC_SCENE_FLAG_ROBUST`.
+#![allow(unsafe_code)] // FFI into the peer; the library crates forbid unsafe code.
+
+use glam::Vec3;
+use octoray::Ray;
+use std::ffi::{c_char, c_int, c_uint, c_void};
+use std::time::{Duration, Instant};
+
+type Device = *mut c_void;
+type Scene = *mut c_void;
+type Geometry = *mut c_void;
+
+#[repr(C, align(16))]
+#[derive(Clone, Copy)]
+struct RtcRay {
+    org: [f32; 3],
+    tnear: f32,
+    dir: [f32; 3],
+    time: f32,
+    tfar: f32,
+    mask: c_uint,
+    id: c_uint,
+    flags: c_uint,
+}
+
+#[repr(C, align(16))]
+#[derive(Clone, Copy)]
+struct RtcHit {
+    ng: [f32; 3],
+    u: f32,
+    v: f32,
+    prim_id: c_uint,
+    geom_id: c_uint,
+    inst_id: [c_uint; 1],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy)]
+struct RtcRayHit {
+    ray: RtcRay,
+    hit: RtcHit,
+}
+
+#[repr(C, align(32))]
+#[derive(Clone, Copy)]
+struct RtcRay8 {
+    org: [[f32; 8]; 3],
+    tnear: [f32; 8],
+    dir: [[f32; 8]; 3],
+    time: [f32; 8],
+    tfar: [f32; 8],
+    mask: [c_uint; 8],
+    id: [c_uint; 8],
+    flags: [c_uint; 8],
+}
+
+#[repr(C, align(32))]
+#[derive(Clone, Copy)]
+struct RtcHit8 {
+    ng: [[f32; 8]; 3],
+    u: [f32; 8],
+    v: [f32; 8],
+    prim_id: [c_uint; 8],
+    geom_id: [c_uint; 8],
+    inst_id: [[c_uint; 8]; 1],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy)]
+struct RtcRayHit8 {
+    ray: RtcRay8,
+    hit: RtcHit8,
+}
+
+#[repr(C)]
+struct Context {
+    flags: c_uint,
+    filter: *const c_void,
+    inst_id: [c_uint; 1],
+}
+
+const INVALID_ID: c_uint = u32::MAX;
+const CONTEXT_COHERENT: c_uint = 1;
+const GEOMETRY_TRIANGLE: c_int = 0;
+const BUFFER_INDEX: c_int = 0;
+const BUFFER_VERTEX: c_int = 1;
+const FORMAT_UINT3: c_int = 0x5003;
+const FORMAT_FLOAT3: c_int = 0x9003;
+const SCENE_FLAG_ROBUST: c_int = 1 << 2;
+
+/// The loaded library's entry points.
+struct Api {
+    _lib: libloading::Library,
+    new_device: unsafe extern "C" fn(*const c_char) -> Device,
+    release_device: unsafe extern "C" fn(Device),
+    new_scene: unsafe extern "C" fn(Device) -> Scene,
+    release_scene: unsafe extern "C" fn(Scene),
+    set_scene_flags: unsafe extern "C" fn(Scene, c_int),
+    new_geometry: unsafe extern "C" fn(Device, c_int) -> Geometry,
+    set_new_buffer:
+        unsafe extern "C" fn(Geometry, c_int, c_uint, c_int, usize, usize) -> *mut c_void,
+    commit_geometry: unsafe extern "C" fn(Geometry),
+    attach_geometry: unsafe extern "C" fn(Scene, Geometry) -> c_uint,
+    release_geometry: unsafe extern "C" fn(Geometry),
+    commit_scene: unsafe extern "C" fn(Scene),
+    intersect1: unsafe extern "C" fn(Scene, *mut Context, *mut RtcRayHit),
+    occluded1: unsafe extern "C" fn(Scene, *mut Context, *mut RtcRay),
+    intersect8: unsafe extern "C" fn(*const c_int, Scene, *mut Context, *mut RtcRayHit8),
+    occluded8: unsafe extern "C" fn(*const c_int, Scene, *mut Context, *mut RtcRay8),
+}
+
+impl Api {
+    fn load() -> Result<Self, String> {
+        // SAFETY: loading a shared library runs its initialisers; Embree's are plain C++ statics.
+        let lib = unsafe { libloading::Library::new("libembree3.so.3") }
+            .map_err(|e| format!("Embree 3 not found ({e}); install libembree-dev"))?;
+        macro_rules! sym {
+            ($name:literal) => {
+                // SAFETY: the symbol's type is the prototype in Embree 3's headers.
+                *unsafe { lib.get($name) }.map_err(|e| format!("Embree 3: {e}"))?
+            };
+        }
+        Ok(Self {
+            new_device: sym!(b"rtcNewDevice\0"),
+            release_device: sym!(b"rtcReleaseDevice\0"),
+            new_scene: sym!(b"rtcNewScene\0"),
+            release_scene: sym!(b"rtcReleaseScene\0"),
+            set_scene_flags: sym!(b"rtcSetSceneFlags\0"),
+            new_geometry: sym!(b"rtcNewGeometry\0"),
+            set_new_buffer: sym!(b"rtcSetNewGeometryBuffer\0"),
+            commit_geometry: sym!(b"rtcCommitGeometry\0"),
+            attach_geometry: sym!(b"rtcAttachGeometry\0"),
+            release_geometry: sym!(b"rtcReleaseGeometry\0"),
+            commit_scene: sym!(b"rtcCommitScene\0"),
+            intersect1: sym!(b"rtcIntersect1\0"),
+            occluded1: sym!(b"rtcOccluded1\0"),
+            intersect8: sym!(b"rtcIntersect8\0"),
+            occluded8: sym!(b"rtcOccluded8\0"),
+            _lib: lib,
+        })
+    }
+}
+
+/// An Embree device (one thread) and a committed triangle scene.
+pub struct EmbreeScene {
+    api: Api,
+    device: Device,
+    scene: Scene,
+}
+
+impl Drop for EmbreeScene {
+    fn drop(&mut self) {
+        // SAFETY: handles created by this library and released once.
+        unsafe {
+            (self.api.release_scene)(self.scene);
+            (self.api.release_device)(self.device);
+        }
+    }
+}
+
+fn context(coherent: bool) -> Context {
+    Context {
+        flags: if coherent { CONTEXT_COHERENT } else { 0 },
+        filter: std::ptr::null(),
+        inst_id: [INVALID_ID],
+    }
+}
+
+fn rtc_ray(r: &Ray) -> RtcRay {
+    RtcRay {
+        org: r.origin.to_array(),
+        tnear: r.t_min,
+        dir: r.dir.to_array(),
+        time: 0.0,
+        tfar: r.t_max,
+        mask: u32::MAX,
+        id: 0,
+        flags: 0,
+    }
+}
+
+/// A packet's valid mask (−1 on active lanes), aligned as Embree requires.
+#[repr(C, align(32))]
+struct Valid([c_int; 8]);
+
+fn rtc_ray8(rays: &[Ray]) -> (RtcRay8, Valid) {
+    let mut p = RtcRay8 {
+        org: [[0.0; 8]; 3],
+        tnear: [0.0; 8],
+        dir: [[0.0; 8]; 3],
+        time: [0.0; 8],
+        tfar: [f32::NEG_INFINITY; 8],
+        mask: [u32::MAX; 8],
+        id: [0; 8],
+        flags: [0; 8],
+    };
+    let mut valid = Valid([0; 8]);
+    for (i, r) in rays.iter().enumerate().take(8) {
+        for k in 0..3 {
+            p.org[k][i] = r.origin[k];
+            p.dir[k][i] = r.dir[k];
+        }
+        p.tnear[i] = r.t_min;
+        p.tfar[i] = r.t_max;
+        valid.0[i] = -1;
+    }
+    (p, valid)
+}
+
+impl EmbreeScene {
+    /// Loads Embree and builds a scene on one thread (robust mode when `robust`); returns the
+    /// scene and the build's wall time (`rtcCommitScene`), or why Embree is unavailable.
+    pub fn build(tris: &[[Vec3; 3]], robust: bool) -> Result<(Self, Duration), String> {
+        let api = Api::load()?;
+        // SAFETY: the calls follow Embree's API: a device, a scene, one triangle geometry whose
+        // buffers Embree allocates (`rtcSetNewGeometryBuffer`, sized for `n` items with the
+        // strides given) and this function fills within those sizes.
+        unsafe {
+            let device = (api.new_device)(c"threads=1".as_ptr());
+            if device.is_null() {
+                return Err("Embree 3: rtcNewDevice failed".into());
+            }
+            let scene = (api.new_scene)(device);
+            if robust {
+                (api.set_scene_flags)(scene, SCENE_FLAG_ROBUST);
+            }
+            let geom = (api.new_geometry)(device, GEOMETRY_TRIANGLE);
+            let n = tris.len();
+            let v =
+                (api.set_new_buffer)(geom, BUFFER_VERTEX, 0, FORMAT_FLOAT3, 12, 3 * n) as *mut f32;
+            let idx = (api.set_new_buffer)(geom, BUFFER_INDEX, 0, FORMAT_UINT3, 12, n) as *mut u32;
+            let v = std::slice::from_raw_parts_mut(v, 9 * n);
+            let idx = std::slice::from_raw_parts_mut(idx, 3 * n);
+            for (i, t) in tris.iter().enumerate() {
+                for (j, p) in t.iter().enumerate() {
+                    v[9 * i + 3 * j..9 * i + 3 * j + 3].copy_from_slice(&p.to_array());
+                    idx[3 * i + j] = (3 * i + j) as u32;
+                }
+            }
+            (api.commit_geometry)(geom);
+            (api.attach_geometry)(scene, geom);
+            (api.release_geometry)(geom);
+            let start = Instant::now();
+            (api.commit_scene)(scene);
+            let built = start.elapsed();
+            Ok((Self { api, device, scene }, built))
+        }
+    }
+
+    /// `rtcIntersect1` on every ray; returns the number of hits.
+    pub fn closest1(&self, rays: &[Ray]) -> u64 {
+        let mut ctx = context(false);
+        let mut hits = 0;
+        for r in rays {
+            let mut rh = RtcRayHit {
+                ray: rtc_ray(r),
+                hit: RtcHit {
+                    ng: [0.0; 3],
+                    u: 0.0,
+                    v: 0.0,
+                    prim_id: INVALID_ID,
+                    geom_id: INVALID_ID,
+                    inst_id: [INVALID_ID],
+                },
+            };
+            // SAFETY: a committed scene, an initialised context and ray/hit of Embree's layout.
+            unsafe { (self.api.intersect1)(self.scene, &mut ctx, &mut rh) };
+            hits += u64::from(rh.hit.geom_id != INVALID_ID);
+        }
+        hits
+    }
+
+    /// `rtcOccluded1` on every ray; returns the number occluded.
+    pub fn any1(&self, rays: &[Ray]) -> u64 {
+        let mut ctx = context(false);
+        let mut hits = 0;
+        for r in rays {
+            let mut ray = rtc_ray(r);
+            // SAFETY: as in `closest1`.
+            unsafe { (self.api.occluded1)(self.scene, &mut ctx, &mut ray) };
+            hits += u64::from(ray.tfar == f32::NEG_INFINITY);
+        }
+        hits
+    }
+
+    /// `rtcIntersect8` on packets of 8 consecutive rays (a coherent context); returns the number
+    /// of hits.
+    pub fn closest8(&self, rays: &[Ray]) -> u64 {
+        let mut ctx = context(true);
+        let mut hits = 0;
+        for c in rays.chunks(8) {
+            let (ray, valid) = rtc_ray8(c);
+            let mut rh = RtcRayHit8 {
+                ray,
+                hit: RtcHit8 {
+                    ng: [[0.0; 8]; 3],
+                    u: [0.0; 8],
+                    v: [0.0; 8],
+                    prim_id: [INVALID_ID; 8],
+                    geom_id: [INVALID_ID; 8],
+                    inst_id: [[INVALID_ID; 8]],
+                },
+            };
+            // SAFETY: as in `closest1`; the packet and mask are 32-byte aligned.
+            unsafe { (self.api.intersect8)(valid.0.as_ptr(), self.scene, &mut ctx, &mut rh) };
+            hits += rh.hit.geom_id[..c.len()]
+                .iter()
+                .filter(|&&g| g != INVALID_ID)
+                .count() as u64;
+        }
+        hits
+    }
+
+    /// `rtcOccluded8` on packets of 8 consecutive rays; returns the number occluded.
+    pub fn any8(&self, rays: &[Ray]) -> u64 {
+        let mut ctx = context(true);
+        let mut hits = 0;
+        for c in rays.chunks(8) {
+            let (mut ray, valid) = rtc_ray8(c);
+            // SAFETY: as in `closest8`.
+            unsafe { (self.api.occluded8)(valid.0.as_ptr(), self.scene, &mut ctx, &mut ray) };
+            hits += ray.tfar[..c.len()]
+                .iter()
+                .filter(|&&t| t == f32::NEG_INFINITY)
+                .count() as u64;
+        }
+        hits
+    }
+}
