@@ -464,16 +464,40 @@ fn slab_test_keeps_rays_in_a_face_plane_and_handles_signed_zero_and_subnormal_di
         for x in [0.0f32, 1.0] {
             let mut r = ray(Vec3::new(x, 0.5, -1.0), Vec3::new(dx, 0.0, 1.0));
             // The slack moves o off the plane; put it back exactly on the face.
-            r.o_plus.x = x;
-            r.o_minus.x = x;
+            r.o_entry.x = x;
+            r.o_exit.x = x;
             let (m, near) = slab(lo, hi, &r, f32::INFINITY);
             assert!(m, "face-plane ray at x = {x}, d.x = {dx:?} lost the box");
             assert!(near <= 1.0);
         }
     }
-    // Parallel to a face and outside the slab: rejected.
-    let r = ray(Vec3::new(2.0, 0.5, -1.0), Vec3::new(0.0, 0.0, 1.0));
-    assert!(!slab(lo, hi, &r, f32::INFINITY).0);
+    // Parallel to a face and outside the slab, on either side, with +0 and −0: rejected.
+    for x in [2.0f32, -1.0] {
+        for dx in [0.0f32, -0.0] {
+            let r = ray(Vec3::new(x, 0.5, -1.0), Vec3::new(dx, 0.0, 1.0));
+            assert!(!slab(lo, hi, &r, f32::INFINITY).0, "x = {x}, d.x = {dx:?}");
+        }
+    }
+    // An empty slot's inverted box (lo = +inf, hi = −inf) is never entered, in any octant.
+    let (elo, ehi) = (
+        V3::<f32>::splat([f32::INFINITY; 3]),
+        V3::<f32>::splat([f32::NEG_INFINITY; 3]),
+    );
+    for d in [
+        Vec3::new(1.0, 2.0, 3.0),
+        Vec3::new(-1.0, 2.0, -3.0),
+        Vec3::new(0.0, -0.0, 1.0),
+    ] {
+        assert!(
+            !slab(elo, ehi, &ray(Vec3::splat(0.5), d), f32::INFINITY).0,
+            "{d}"
+        );
+    }
+    // Entered through the upper faces (every component negative): the same answers.
+    let r = ray(Vec3::new(0.5, 0.5, 2.0), Vec3::new(-0.0, -0.0, -1.0));
+    let (m, near) = slab(lo, hi, &r, f32::INFINITY);
+    assert!(m && (near - 1.0).abs() < 1e-4, "near = {near}");
+    assert!(!slab(lo, hi, &r, 0.5).0);
     // A subnormal direction component (1/d overflows): that axis does not bound the ray.
     let r = ray(Vec3::new(0.5, 0.5, -1.0), Vec3::new(1e-40, 0.0, 1.0));
     assert!(slab(lo, hi, &r, f32::INFINITY).0);

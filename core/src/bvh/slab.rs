@@ -15,14 +15,15 @@
 //! they are compared. `o/d` is never precomputed (that form
 //! cancels and has no such bound), and nothing is fused.
 //!
-//! Infinite reciprocals (zero or −0 components) give `±inf` slab distances with the right sign;
-//! where `b − o` is also 0 the product is NaN, meaning the ray runs inside that face's plane: that
-//! axis then does not bound the ray (tested for +0 and −0 on both faces). A subnormal
-//! component whose reciprocal overflows is treated the same way: that axis does not bound the
-//! ray. The test is then only looser, never wrong.
+//! Per axis, the ray enters through one face and leaves through the other, picked by the sign of
+//! `1/d` (so no `min`/`max` per axis). Infinite reciprocals (zero or −0 components) give `±inf`
+//! slab distances with the right sign; where `b − o` is also 0 the product is NaN, meaning the
+//! ray runs inside that face's plane: that face then does not bound the ray (tested for +0 and −0
+//! on both faces). A subnormal component whose reciprocal overflows is treated the same way: that
+//! axis does not bound the ray. The test is then only looser, never wrong.
 
+use crate::lanes::Lanes;
 use crate::lanes::V3;
-use crate::lanes::{LaneMask, Lanes};
 use crate::prim::RayLanes;
 
 /// Relative slack of boxes and origins: 2⁻¹⁷ (≈ 128 ulp of f32) of the largest coordinate
@@ -34,24 +35,28 @@ pub const SLACK: f32 = 1.0 / 131_072.0;
 /// `2γ₃` for f32 (`γₙ = nε/(1 − nε)`, ε = 2⁻²⁴), rounded up.
 const TWO_GAMMA3: f32 = 3.6e-7;
 
-/// A ray (per lane) prepared for box tests: the origin moved by its slack both ways, and the
-/// correctly rounded reciprocal direction.
+/// A ray (per lane) prepared for box tests: the correctly rounded reciprocal direction, and the
+/// origin moved by its slack toward each axis' entry and exit planes.
+///
+/// Per axis, the entry plane is the box's lower face when the direction's sign bit is clear and
+/// its upper face otherwise (`−0` counts as negative: `1/−0 = −inf`), the exit plane the other
+/// one. Testing entry and exit planes directly needs no `min`/`max` per axis.
 #[derive(Clone, Copy, Debug)]
 pub struct BoxRay<L: Lanes> {
-    /// `o + δ`, for the lower planes.
-    pub o_plus: V3<L>,
-    /// `o − δ`, for the upper planes.
-    pub o_minus: V3<L>,
+    /// `o + δ` on axes entered through the lower face, `o − δ` on the others: the origin the
+    /// entry plane is measured from (the box grown by `δ`).
+    pub o_entry: V3<L>,
+    /// The same for the exit plane (`o − δ` where the exit plane is the upper face).
+    pub o_exit: V3<L>,
     /// `1/d` (±inf for ±0; NaN where `d` is subnormal and `1/d` overflows).
     pub inv: V3<L>,
+    /// Axes entered through the upper face (`1/d < 0`), per lane.
+    pub neg: [L::Mask; 3],
     /// `t_min` per lane.
     pub t_min: L,
     /// Lanes with a finite origin and direction and a non-zero direction: the only ones any
     /// kernel can report a hit for.
     pub valid: L::Mask,
-    /// Some lane has a zero or subnormal direction component (an infinite or NaN reciprocal):
-    /// only then can a slab distance be NaN, and [`slab`] takes its NaN-aware form.
-    pub open_axes: bool,
 }
 
 impl<L: Lanes> BoxRay<L> {
@@ -76,14 +81,22 @@ impl<L: Lanes> BoxRay<L> {
             & d.z.is_finite();
         let nonzero = d.x.ne(zero) | d.y.ne(zero) | d.z.ne(zero);
         let inv = V3::new(inv1(d.x), inv1(d.y), inv1(d.z));
-        let open = !(inv.x.is_finite() & inv.y.is_finite() & inv.z.is_finite());
+        let neg = [inv.x.lt(zero), inv.y.lt(zero), inv.z.lt(zero)];
+        let (plus, minus) = (
+            V3::new(o.x + delta, o.y + delta, o.z + delta),
+            V3::new(o.x - delta, o.y - delta, o.z - delta),
+        );
+        let pick = |n: L::Mask, a: L, b: L| (L::select(n, b, a), L::select(n, a, b));
+        let (ex, fx) = pick(neg[0], plus.x, minus.x);
+        let (ey, fy) = pick(neg[1], plus.y, minus.y);
+        let (ez, fz) = pick(neg[2], plus.z, minus.z);
         Self {
-            o_plus: V3::new(o.x + delta, o.y + delta, o.z + delta),
-            o_minus: V3::new(o.x - delta, o.y - delta, o.z - delta),
+            o_entry: V3::new(ex, ey, ez),
+            o_exit: V3::new(fx, fy, fz),
             inv,
+            neg,
             t_min: ray.t_min,
             valid: ray.active & finite & nonzero,
-            open_axes: open.any(),
         }
     }
 }
@@ -96,34 +109,39 @@ fn max3<L: Lanes>(a: L, b: L, c: L) -> L {
 
 /// Per lane: does the ray meet the box `[lo, hi]` within `[t_min, t_max]`? Returns the mask
 /// (`valid` lanes only) and the conservative entry distance (meaningful where the mask is set).
+/// Picks each lane's entry and exit faces by its direction's signs, then [`slab_planes`].
 #[inline(always)]
 pub fn slab<L: Lanes>(lo: V3<L>, hi: V3<L>, r: &BoxRay<L>, t_max: L) -> (L::Mask, L) {
-    let mut near = r.t_min;
-    let mut far = t_max;
-    let nan = L::splat(f32::NAN);
-    let open_axes = r.open_axes;
-    let mut axis = |lo: L, hi: L, op: L, om: L, inv: L| {
-        let t0 = (lo - op) * inv;
-        let t1 = (hi - om) * inv;
-        if !open_axes {
-            // Every reciprocal is finite and non-zero: no NaN can arise.
-            near = t1.min_or_rhs(t0).max_or_rhs(near);
-            far = t0.max_or_rhs(t1).min_or_rhs(far);
-            return;
-        }
-        // t0 + t1 is NaN exactly when one of them is (0·inf: the ray runs in this face's plane)
-        // or they are opposite infinities (d = 0 with the origin inside the slab): in both cases
-        // the axis does not bound the ray, so near and far become NaN, which the reduction skips
-        // (`a.max_or_rhs(b)` is `b` when either is NaN).
-        let open = (t0 + t1).ne(t0 + t1);
-        let n = L::select(open, nan, t1.min_or_rhs(t0));
-        let f = L::select(open, nan, t0.max_or_rhs(t1));
-        near = n.max_or_rhs(near);
-        far = f.min_or_rhs(far);
-    };
-    axis(lo.x, hi.x, r.o_plus.x, r.o_minus.x, r.inv.x);
-    axis(lo.y, hi.y, r.o_plus.y, r.o_minus.y, r.inv.y);
-    axis(lo.z, hi.z, r.o_plus.z, r.o_minus.z, r.inv.z);
+    let entry = V3::new(
+        L::select(r.neg[0], hi.x, lo.x),
+        L::select(r.neg[1], hi.y, lo.y),
+        L::select(r.neg[2], hi.z, lo.z),
+    );
+    let exit = V3::new(
+        L::select(r.neg[0], lo.x, hi.x),
+        L::select(r.neg[1], lo.y, hi.y),
+        L::select(r.neg[2], lo.z, hi.z),
+    );
+    slab_planes(entry, exit, r, t_max)
+}
+
+/// The slab test on the entry and exit faces already picked per axis (what [`slab`] does per
+/// lane; a single ray picks them once per node from its direction's signs): the one body of
+/// every box test.
+#[inline(always)]
+pub fn slab_planes<L: Lanes>(entry: V3<L>, exit: V3<L>, r: &BoxRay<L>, t_max: L) -> (L::Mask, L) {
+    // Per axis: t = (face − o)·(1/d). A NaN (0·inf: the ray runs in that face's plane, or a NaN
+    // reciprocal) means the face does not bound the ray; `a.max_or_rhs(b)` is `b` when `a` is
+    // NaN, so the reduction skips it. With `1/d = ±inf` and the origin strictly inside the slab
+    // the faces give −inf and +inf: no bound either. Outside it the entry face gives +inf: a miss.
+    let near = ((entry.x - r.o_entry.x) * r.inv.x).max_or_rhs(
+        ((entry.y - r.o_entry.y) * r.inv.y)
+            .max_or_rhs(((entry.z - r.o_entry.z) * r.inv.z).max_or_rhs(r.t_min)),
+    );
+    let far = ((exit.x - r.o_exit.x) * r.inv.x).min_or_rhs(
+        ((exit.y - r.o_exit.y) * r.inv.y)
+            .min_or_rhs(((exit.z - r.o_exit.z) * r.inv.z).min_or_rhs(t_max)),
+    );
     // Relative widening by 2γ₃, plus an absolute 2⁻¹²⁶ for distances in the subnormal range
     // (huge directions), where a rounding is off by up to 2⁻¹⁵⁰ whatever the value.
     let c = L::splat(TWO_GAMMA3);

@@ -10,7 +10,7 @@
 //! [module contract](super)): same hit/miss, same `t`, `u`, `v` bits, same primitive index
 //! (ties in `t` go to the lower index).
 
-use super::slab::{loosen, slab, BoxRay};
+use super::slab::{loosen, slab, slab_planes, BoxRay};
 use super::{Bvh8Ref, STACK, WIDTH};
 use crate::hit::Hit;
 use crate::kernels::{barycentrics, Kernel};
@@ -104,6 +104,10 @@ fn sort_far_first<N: Copy>(e: &mut [(f32, Entry<N>)]) {
 
 /// One ray (`rl`, broadcast to every lane) from stack entry `start` down. `best` carries the hit
 /// so far in and the final one out. With `ANY`, returns at the first hit (`true`).
+///
+/// Each node's eight boxes are tested at once on the entry and exit faces picked once per ray
+/// ([`slab_planes`]); the nearest child hit is visited next without a stack round trip, the
+/// others are pushed farthest first.
 fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
     bvh: Bvh8Ref<'_, K::Prim>,
     rl: &RayLanes<L>,
@@ -113,19 +117,34 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
     best: &mut Option<Best<L::Scalar>>,
 ) -> bool {
     let t_max = rl.t_max.lane(0);
+    // A node's rows as `[[f32; 8]; 8]`: lo x, y, z, hi x, y, z, then child and count bits.
+    // Per axis, the entry face's row and the exit face's.
+    let face = |k: usize| {
+        if br.neg[k].any() {
+            (3 + k, k)
+        } else {
+            (k, 3 + k)
+        }
+    };
+    let (fx, fy, fz) = (face(0), face(1), face(2));
     // Capacity STACK is what a validated tree can need, so pushes never fail.
     let mut stack = ArrayVec::<Entry<f32>, STACK>::new();
-    stack.push(Entry {
+    let mut cur = Some(Entry {
         child: start.0,
         count: start.1,
         near: f32::NEG_INFINITY,
     });
     let mut ray = *rl;
     let mut cull = f32_bound(bound(t_max, best));
-    while let Some(e) = stack.pop() {
-        if e.near > cull {
-            continue;
-        }
+    loop {
+        let e = match cur.take() {
+            Some(e) => e,
+            None => match stack.pop() {
+                Some(e) if e.near > cull => continue,
+                Some(e) => e,
+                None => break,
+            },
+        };
         if e.count > 0 {
             let (first, count) = (e.child as usize, e.count as usize);
             // One block at a time; at fewer than BLOCK lanes, a block in several calls.
@@ -166,46 +185,49 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
             continue;
         }
         let node = &bvh.nodes[e.child as usize];
-        let lo = V3::new(
-            f32x8::from(node.lo[0]),
-            f32x8::from(node.lo[1]),
-            f32x8::from(node.lo[2]),
+        let rows: &[[f32; WIDTH]; 8] = bytemuck::cast_ref(node);
+        let row = |i: usize| f32x8::from(rows[i]);
+        let (mask, near) = slab_planes(
+            V3::new(row(fx.0), row(fy.0), row(fz.0)),
+            V3::new(row(fx.1), row(fy.1), row(fz.1)),
+            br,
+            f32x8::splat(cull),
         );
-        let hi = V3::new(
-            f32x8::from(node.hi[0]),
-            f32x8::from(node.hi[1]),
-            f32x8::from(node.hi[2]),
-        );
-        let (mask, near) = slab(lo, hi, br, f32x8::splat(cull));
-        // Empty slots hold inverted boxes (lo = +inf > hi = −inf).
-        let mut bits = (mask & lo.x.le(hi.x)).bitmask();
+        let mut bits = mask.bitmask();
+        if bits == 0 {
+            continue;
+        }
         let near = near.to_array();
-        let mut hits = [(
-            0.0f32,
-            Entry {
-                child: 0,
-                count: 0,
-                near: 0.0f32,
-            },
-        ); WIDTH];
-        let mut n = 0;
+        let entry = |s: usize| Entry {
+            child: node.child[s],
+            count: node.count[s],
+            near: near[s],
+        };
+        if bits & (bits - 1) == 0 {
+            // One child: visit it next.
+            let s = bits.trailing_zeros() as usize;
+            if node.child[s] != super::EMPTY {
+                cur = Some(entry(s));
+            }
+            continue;
+        }
+        // Several: push them farthest first, then take the nearest off the top.
+        let base = stack.len();
         while bits != 0 {
             let s = bits.trailing_zeros() as usize;
             bits &= bits - 1;
-            hits[n] = (
-                near[s],
-                Entry {
-                    child: node.child[s],
-                    count: node.count[s],
-                    near: near[s],
-                },
-            );
-            n += 1;
+            // Empty slots hold inverted boxes, which no finite ray enters; skip them anyway.
+            if node.child[s] == super::EMPTY {
+                continue;
+            }
+            stack.push(entry(s));
+            let mut j = stack.len() - 1;
+            while j > base && stack[j - 1].near < stack[j].near {
+                stack.swap(j - 1, j);
+                j -= 1;
+            }
         }
-        sort_far_first(&mut hits[..n]);
-        for h in &hits[..n] {
-            stack.push(h.1);
-        }
+        cur = stack.pop();
     }
     false
 }
