@@ -79,22 +79,28 @@ fn hash(i: u32) -> f32 {
 
 use octoray_testkit::icosphere;
 
-/// An icosphere of radius ~1 subdivided `levels` times, radii jittered by ±4 %: positions and
-/// indices, the way a mesh loader hands them over.
+/// An icosphere of radius ~1 subdivided `levels` times, with smooth bumps of ±5 % and every
+/// radius jittered by a third of an edge: positions and indices, the way a mesh loader hands them
+/// over.
 pub fn icosphere(levels: u32) -> (Vec<[f32; 3]>, Vec<u32>) {
     let (v, f) = icosphere::icosphere(levels);
+    let edge = 1.1 / (1u32 << levels) as f32;
     let positions = v
         .iter()
         .enumerate()
-        .map(|(i, p)| (*p * (1.0 + 0.08 * hash(i as u32))).to_array())
+        .map(|(i, p)| {
+            let bumps = ((7.0 * p.x).sin() + (7.0 * p.y).sin() + (7.0 * p.z).sin()) / 3.0;
+            (*p * (1.0 + 0.05 * bumps + edge / 3.0 * hash(i as u32))).to_array()
+        })
         .collect();
     (positions, f.concat())
 }
 
 impl Scene {
-    /// The embedded default scene: a jittered icosphere on a ground quad with three spheres.
+    /// The embedded default scene: a bumpy, jittered icosphere of 1.3 M triangles (8 levels) on a
+    /// ground quad with three spheres.
     pub fn default_scene() -> Self {
-        let (positions, indices) = icosphere(4);
+        let (positions, indices) = icosphere(8);
         Self::with_mesh(&positions, &indices).expect("the embedded mesh is valid")
     }
 
