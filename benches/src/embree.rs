@@ -148,9 +148,13 @@ impl Api {
     }
 }
 
+/// The library, loaded once and never unloaded: Embree's task threads outlive its devices, and
+/// unloading the code under them crashes the process.
+static API: std::sync::OnceLock<Result<Api, String>> = std::sync::OnceLock::new();
+
 /// An Embree device (one thread) and a committed triangle scene.
 pub struct EmbreeScene {
-    api: Api,
+    api: &'static Api,
     device: Device,
     scene: Scene,
 }
@@ -218,7 +222,7 @@ impl EmbreeScene {
     /// Loads Embree and builds a scene on one thread (robust mode when `robust`); returns the
     /// scene and the build's wall time (`rtcCommitScene`), or why Embree is unavailable.
     pub fn build(tris: &[[Vec3; 3]], robust: bool) -> Result<(Self, Duration), String> {
-        let api = Api::load()?;
+        let api = API.get_or_init(Api::load).as_ref().map_err(Clone::clone)?;
         // SAFETY: the calls follow Embree's API: a device, a scene, one triangle geometry whose
         // buffers Embree allocates (`rtcSetNewGeometryBuffer`, sized for `n` items with the
         // strides given) and this function fills within those sizes.
