@@ -90,18 +90,6 @@ fn f32_bound<S: Scalar>(t: S) -> f32 {
     }
 }
 
-/// Sorts `n` entries by entry distance, farthest first (so the nearest is popped first).
-#[inline(always)]
-fn sort_far_first<N: Copy>(e: &mut [(f32, Entry<N>)]) {
-    for i in 1..e.len() {
-        let mut j = i;
-        while j > 0 && e[j - 1].0 < e[j].0 {
-            e.swap(j - 1, j);
-            j -= 1;
-        }
-    }
-}
-
 /// One ray (`rl`, broadcast to every lane) from stack entry `start` down. `best` carries the hit
 /// so far in and the final one out. With `ANY`, returns at the first hit (`true`).
 ///
@@ -211,22 +199,55 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
             }
             continue;
         }
-        // Several: push them farthest first, then take the nearest off the top.
+        // Several. Occlusion needs no order: push them as they come. Closest hit: two children
+        // go nearest next, the other onto the stack (no loop); more are pushed farthest first.
         let base = stack.len();
+        if !ANY && (bits & (bits - 1)).count_ones() == 1 {
+            let (a, b) = (
+                bits.trailing_zeros() as usize,
+                31 - bits.leading_zeros() as usize,
+            );
+            let (near_s, far_s) = if near[b] < near[a] { (b, a) } else { (a, b) };
+            // Empty slots hold inverted boxes, which no finite ray enters; skip them anyway.
+            if node.child[far_s] != super::EMPTY {
+                stack.push(entry(far_s));
+            }
+            if node.child[near_s] != super::EMPTY {
+                cur = Some(entry(near_s));
+            }
+            continue;
+        }
+        if ANY {
+            while bits != 0 {
+                let s = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                if node.child[s] != super::EMPTY {
+                    stack.push(entry(s));
+                }
+            }
+            cur = stack.pop();
+            continue;
+        }
+        // Sorted in a local array (slot indices by entry distance, farthest first), then pushed.
+        let mut order = [0u8; WIDTH];
+        let mut n = 0;
         while bits != 0 {
             let s = bits.trailing_zeros() as usize;
             bits &= bits - 1;
-            // Empty slots hold inverted boxes, which no finite ray enters; skip them anyway.
-            if node.child[s] == super::EMPTY {
-                continue;
-            }
-            stack.push(entry(s));
-            let mut j = stack.len() - 1;
-            while j > base && stack[j - 1].near < stack[j].near {
-                stack.swap(j - 1, j);
+            let mut j = n;
+            while j > 0 && near[order[j - 1] as usize] < near[s] {
+                order[j] = order[j - 1];
                 j -= 1;
             }
+            order[j] = s as u8;
+            n += 1;
         }
+        for &s in &order[..n] {
+            if node.child[s as usize] != super::EMPTY {
+                stack.push(entry(s as usize));
+            }
+        }
+        let _ = base;
         cur = stack.pop();
     }
     false
@@ -402,14 +423,11 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
             continue;
         }
         let node = &bvh.nodes[e.child as usize];
-        let mut hits = [(
-            0.0f32,
-            Entry {
-                child: 0,
-                count: 0,
-                near: nan,
-            },
-        ); WIDTH];
+        // Children entered by some live lane: their entry distances, and slot indices sorted
+        // farthest first by key (then pushed, so the nearest is popped first).
+        let mut nears = [nan; WIDTH];
+        let mut keys = [0.0f32; WIDTH];
+        let mut order = [0u8; WIDTH];
         let mut n = 0;
         for s in 0..WIDTH {
             if node.child[s] == super::EMPTY {
@@ -425,21 +443,24 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
             }
             // Sort key: the entry distance of the first lane that enters (a representative ray
             // of a coherent packet; the order affects speed only, never the answer).
-            let near = L::select(m, near, nan);
-            let key = near.lane(mb.trailing_zeros() as usize).to_f32();
-            hits[n] = (
-                key,
-                Entry {
-                    child: node.child[s],
-                    count: node.count[s],
-                    near,
-                },
-            );
+            nears[s] = L::select(m, near, nan);
+            let key = nears[s].lane(mb.trailing_zeros() as usize).to_f32();
+            keys[s] = key;
+            let mut j = n;
+            while j > 0 && keys[order[j - 1] as usize] < key {
+                order[j] = order[j - 1];
+                j -= 1;
+            }
+            order[j] = s as u8;
             n += 1;
         }
-        sort_far_first(&mut hits[..n]);
-        for h in &hits[..n] {
-            stack.push(h.1);
+        for &s in &order[..n] {
+            let s = s as usize;
+            stack.push(Entry {
+                child: node.child[s],
+                count: node.count[s],
+                near: nears[s],
+            });
         }
     }
     best
