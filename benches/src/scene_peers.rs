@@ -32,6 +32,37 @@ impl ObvhsScene {
         (Self { bvh, tris }, start.elapsed())
     }
 
+    /// The tree's SAH cost with the conventional unit costs octoray's `BuildStats::sah_cost`
+    /// uses: 1 for the root, plus per child `area/area(root)`, times its primitive count for a
+    /// leaf (obvhs's quantised child boxes, which are conservative like octoray's widened ones).
+    /// Returned as (node term: 1 + Σ inner children's areas, leaf term: Σ leaf area × count,
+    /// leaf term in blocks of 8: Σ leaf area × ⌈count/8⌉).
+    pub fn sah_cost(&self) -> (f32, f32, f32) {
+        if self.bvh.nodes.is_empty() {
+            return (0.0, 0.0, 0.0);
+        }
+        // The scene's box (the root node's own box is its quantisation grid, up to twice as
+        // wide per axis).
+        let root_area = self.bvh.total_aabb.half_area().max(f32::MIN_POSITIVE);
+        let (mut nodes, mut leaves, mut blocks) = (1.0, 0.0, 0.0);
+        for n in &self.bvh.nodes {
+            for c in 0..8 {
+                if n.is_child_empty(c) {
+                    continue;
+                }
+                let area = n.child_aabb(c).half_area() / root_area;
+                if n.is_leaf(c) {
+                    let count = n.child_primitives(c).1;
+                    leaves += area * count as f32;
+                    blocks += area * count.div_ceil(8) as f32;
+                } else {
+                    nodes += area;
+                }
+            }
+        }
+        (nodes, leaves, blocks)
+    }
+
     fn ray(r: &Ray) -> obvhs::ray::Ray {
         obvhs::ray::Ray::new(r.origin.into(), r.dir.into(), r.t_min, r.t_max)
     }

@@ -69,6 +69,41 @@ fn batch_closest<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]
     out.iter().filter(|h| h.is_some()).count() as u64
 }
 
+/// The two terms of `BuildStats::sah_cost` (1 + Σ inner children's areas; Σ leaf area × count),
+/// recomputed from the nodes, relative to the root's box; and the leaf term in blocks of 8.
+fn sah_terms(nodes: &[octoray::bvh::Bvh8Node]) -> (f32, f32, f32) {
+    let half_area = |n: &octoray::bvh::Bvh8Node, s: usize| {
+        let e: [f32; 3] = std::array::from_fn(|a| (n.hi[a][s] - n.lo[a][s]).max(0.0));
+        e[0] * e[1] + e[1] * e[2] + e[2] * e[0]
+    };
+    let Some(root) = nodes.first() else {
+        return (0.0, 0.0, 0.0);
+    };
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    for s in 0..root.len() {
+        for a in 0..3 {
+            lo[a] = lo[a].min(root.lo[a][s]);
+            hi[a] = hi[a].max(root.hi[a][s]);
+        }
+    }
+    let e: [f32; 3] = std::array::from_fn(|a| (hi[a] - lo[a]).max(0.0));
+    let root_area = (e[0] * e[1] + e[1] * e[2] + e[2] * e[0]).max(f32::MIN_POSITIVE);
+    let (mut inner, mut leaves, mut blocks) = (1.0, 0.0, 0.0);
+    for n in nodes {
+        for s in 0..n.len() {
+            let a = half_area(n, s) / root_area;
+            if n.count[s] == 0 {
+                inner += a;
+            } else {
+                leaves += a * n.count[s] as f32;
+                blocks += a * n.count[s].div_ceil(8) as f32;
+            }
+        }
+    }
+    (inner, leaves, blocks)
+}
+
 fn flags() -> &'static str {
     if cfg!(target_feature = "avx512f") {
         "-C target-cpu=native (AVX-512, FMA)"
@@ -91,6 +126,7 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
     let wt = Bvh8::build(&verts);
     let st = Bvh8::build(&packed);
     let stats = wt.stats();
+    let own_sah = sah_terms(wt.nodes());
     let p8 = s.primary_tiled(w, h, 4, 2);
     let p16 = s.primary_tiled(w, h, 4, 4);
     let bounce = s.diffuse_bounces(&p8, &wt);
@@ -258,7 +294,14 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
     );
     let mut builds = vec![
         (
-            "obvhs 0.4 (CWBVH, medium_build)".to_string(),
+            {
+                let (n, l, b) = ob.sah_cost();
+                format!(
+                    "obvhs 0.4 (CWBVH, medium_build; SAH cost {:.1} = {n:.1} node + {l:.1} leaf; in blocks of 8: {:.1})",
+                    n + l,
+                    n + b
+                )
+            },
             ob_build.as_secs_f64(),
         ),
         ("bvh 0.13".to_string(), bv_build.as_secs_f64()),
@@ -347,8 +390,12 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
         .collect();
     writeln!(
         md,
-        "\nPeers' builds (1 thread): {}; octoray {build_s:.3} s.",
-        builds_line.join(", ")
+        "\nPeers' builds (1 thread): {}; octoray {build_s:.3} s (SAH cost {:.1} = {:.1} node + {:.1} leaf; in blocks of 8: {:.1}). SAH costs: 1 per node visit and 1 per primitive test (\"in blocks of 8\": 1 per leaf block of up to 8, what one octoray leaf test costs), relative to the scene's box.",
+        builds_line.join(", "),
+        stats.sah_cost,
+        own_sah.0,
+        own_sah.1,
+        own_sah.0 + own_sah.2
     )
     .unwrap();
     let ratio = |a: &str, b: &str| match (rates.get(a), rates.get(b)) {
