@@ -9,8 +9,15 @@ use crate::prim::{Aabb, Primitive, BLOCK};
 use alloc::vec;
 use alloc::vec::Vec;
 
-/// Number of SAH bins per axis.
+/// Number of SAH bins per axis (at most; small nodes use fewer, [`bins_for`]).
 const BINS: usize = 32;
+
+/// Bins for a node of `n` items: 32 from 128 items up, fewer below (4 at the least): the sweep
+/// over the bins then costs no more than the pass over the items.
+#[inline]
+fn bins_for(n: usize) -> usize {
+    (n / 4).clamp(4, BINS)
+}
 /// Largest leaf.
 const MAX_LEAF: usize = BLOCK;
 /// SAH cost of visiting a node, relative to testing one block of [`BLOCK`] primitives (one ray
@@ -28,7 +35,8 @@ fn leaf_cost(n: usize) -> f32 {
 /// [`MAX_DEPTH`] whatever the input.
 const BALANCED_FROM: usize = MAX_DEPTH - 34;
 
-/// The owned tree: nodes, primitives in leaf order, and their indices in the caller's slice.
+/// The owned tree: nodes, primitives in leaf order (SoA blocks of [`BLOCK`], each leaf padded to
+/// whole blocks), and their indices in the caller's slice.
 #[derive(Clone, Debug)]
 pub struct Bvh8<P> {
     nodes: Vec<Bvh8Node>,
@@ -97,13 +105,23 @@ impl<P: Primitive> Bvh8<P> {
             }
         }
         let skipped = prims.len() - refs.len();
-        let centers: Vec<[f32; 3]> = boxes.iter().map(Aabb::center).collect();
-        // `refs` holds slice indices; `local[k]` indexes boxes/centers for refs[k].
-        let mut local: Vec<u32> = (0..refs.len() as u32).collect();
+        // `refs` holds slice indices; each item carries its box and centre (so the build's passes
+        // read memory in order) and `local`, its index in `refs`.
+        let mut items: Vec<Item> = boxes
+            .iter()
+            .enumerate()
+            .map(|(k, b)| Item {
+                bx: *b,
+                c: b.center(),
+                local: k as u32,
+            })
+            .collect();
         let mut bin = Vec::new();
-        if !local.is_empty() {
-            split(&mut bin, &boxes, &centers, &mut local, 0, refs.len(), 0);
+        if !items.is_empty() {
+            let mut scratch = Vec::with_capacity(items.len());
+            split(&mut bin, &mut items, &mut scratch, 0, refs.len(), 0);
         }
+        let local: Vec<u32> = items.iter().map(|i| i.local).collect();
 
         // Collapse into 8-wide nodes, parents before children; each leaf's primitives go out in
         // whole SoA blocks as the leaf is placed.
@@ -235,24 +253,27 @@ impl<P: Primitive> Bvh8<P> {
     }
 }
 
-/// Builds the binary node for `local[start..end]` and returns its index.
+/// A primitive's box and centre during the build, and its index in `refs`.
+#[derive(Clone, Copy)]
+struct Item {
+    bx: Aabb,
+    c: [f32; 3],
+    local: u32,
+}
+
+/// Builds the binary node for `items[start..end]` and returns its index.
 fn split(
     out: &mut Vec<BinNode>,
-    boxes: &[Aabb],
-    centers: &[[f32; 3]],
-    local: &mut [u32],
+    all: &mut [Item],
+    scratch: &mut Vec<Item>,
     start: usize,
     end: usize,
     depth: usize,
 ) -> usize {
     let n = end - start;
-    let items = &local[start..end];
-    let bounds = items
-        .iter()
-        .fold(Aabb::EMPTY, |b, &l| b.union(boxes[l as usize]));
-    let cb = items
-        .iter()
-        .fold(Aabb::EMPTY, |b, &l| b.grow(centers[l as usize]));
+    let items = &all[start..end];
+    let bounds = items.iter().fold(Aabb::EMPTY, |b, i| b.union(i.bx));
+    let cb = items.iter().fold(Aabb::EMPTY, |b, i| b.grow(i.c));
     let me = out.len();
     out.push(BinNode {
         bounds,
@@ -270,29 +291,34 @@ fn split(
     let area = bounds.half_area();
     let mut best: Option<(f32, usize, usize)> = None; // (cost, axis, bins on the left)
     if depth < BALANCED_FROM {
-        for (axis, (&lo, &hi)) in cb.lo.iter().zip(&cb.hi).enumerate() {
-            // Centres are finite, so hi ≤ lo means a flat axis.
-            if hi <= lo {
+        // Bin all three axes in one pass over the items (the pass is memory-bound).
+        let nb = bins_for(n);
+        let scale: [f32; 3] = core::array::from_fn(|a| nb as f32 / (cb.hi[a] - cb.lo[a]));
+        let mut bb = [[Aabb::EMPTY; BINS]; 3];
+        let mut cnt = [[0usize; BINS]; 3];
+        for &Item { bx, c, .. } in items {
+            for a in 0..3 {
+                // A flat axis (hi ≤ lo: centres are finite) is skipped below; its bins unused.
+                let b = bin_of(c[a], cb.lo[a], scale[a], nb);
+                bb[a][b] = bb[a][b].union(bx);
+                cnt[a][b] += 1;
+            }
+        }
+        for axis in 0..3 {
+            if cb.hi[axis] <= cb.lo[axis] {
                 continue;
             }
-            let scale = BINS as f32 / (hi - lo);
-            let mut bb = [Aabb::EMPTY; BINS];
-            let mut cnt = [0usize; BINS];
-            for &l in items {
-                let b = bin_of(centers[l as usize][axis], lo, scale);
-                bb[b] = bb[b].union(boxes[l as usize]);
-                cnt[b] += 1;
-            }
+            let (bb, cnt) = (&bb[axis], &cnt[axis]);
             // Right-to-left sweep of areas·counts, then left to right.
             let mut right = [0.0f32; BINS];
             let (mut acc, mut c) = (Aabb::EMPTY, 0usize);
-            for b in (1..BINS).rev() {
+            for b in (1..nb).rev() {
                 acc = acc.union(bb[b]);
                 c += cnt[b];
                 right[b] = acc.half_area() * leaf_cost(c);
             }
             let (mut acc, mut c) = (Aabb::EMPTY, 0usize);
-            for b in 0..BINS - 1 {
+            for b in 0..nb - 1 {
                 acc = acc.union(bb[b]);
                 c += cnt[b];
                 if c == 0 || c == n {
@@ -309,11 +335,12 @@ fn split(
 
     let mid = match best {
         Some((cost, _, _)) if n <= MAX_LEAF && cost >= leaf => return me,
-        Some((_, axis, nb)) => {
+        Some((_, axis, left_bins)) => {
             let (lo, hi) = (cb.lo[axis], cb.hi[axis]);
-            let scale = BINS as f32 / (hi - lo);
-            partition(&mut local[start..end], |l| {
-                bin_of(centers[l as usize][axis], lo, scale) < nb
+            let bins = bins_for(n);
+            let scale = bins as f32 / (hi - lo);
+            partition(&mut all[start..end], scratch, |i| {
+                bin_of(i.c[axis], lo, scale, bins) < left_bins
             }) + start
         }
         None if n <= MAX_LEAF && depth < BALANCED_FROM => return me,
@@ -327,34 +354,39 @@ fn split(
                         .then(b.cmp(&a))
                 })
                 .unwrap_or(0);
-            local[start..end].sort_by(|&a, &b| {
-                centers[a as usize][axis]
-                    .total_cmp(&centers[b as usize][axis])
-                    .then(a.cmp(&b))
-            });
+            all[start..end]
+                .sort_by(|a, b| a.c[axis].total_cmp(&b.c[axis]).then(a.local.cmp(&b.local)));
             if n <= MAX_LEAF {
                 return me;
             }
             start + n / 2
         }
     };
-    let left = split(out, boxes, centers, local, start, mid, depth + 1);
-    let right = split(out, boxes, centers, local, mid, end, depth + 1);
+    let left = split(out, all, scratch, start, mid, depth + 1);
+    let right = split(out, all, scratch, mid, end, depth + 1);
     out[me].left = left;
     out[me].right = right;
     me
 }
 
 #[inline]
-fn bin_of(c: f32, lo: f32, scale: f32) -> usize {
-    (((c - lo) * scale) as usize).min(BINS - 1)
+fn bin_of(c: f32, lo: f32, scale: f32, bins: usize) -> usize {
+    (((c - lo) * scale) as usize).min(bins - 1)
 }
 
 /// Stable partition: the items where `left` holds first; returns their count.
-fn partition(items: &mut [u32], left: impl Fn(u32) -> bool) -> usize {
-    let (l, r): (Vec<u32>, Vec<u32>) = items.iter().partition(|&&x| left(x));
-    let k = l.len();
-    items[..k].copy_from_slice(&l);
-    items[k..].copy_from_slice(&r);
+fn partition(items: &mut [Item], scratch: &mut Vec<Item>, left: impl Fn(&Item) -> bool) -> usize {
+    scratch.clear();
+    let mut k = 0;
+    for i in 0..items.len() {
+        let it = items[i];
+        if left(&it) {
+            items[k] = it;
+            k += 1;
+        } else {
+            scratch.push(it);
+        }
+    }
+    items[k..].copy_from_slice(scratch);
     k
 }

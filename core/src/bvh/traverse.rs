@@ -2,7 +2,7 @@
 //!
 //! | call | rays | how |
 //! |---|---|---|
-//! | [`closest_ray`], [`occluded_ray`] | one | one `f32x8` box test per node (its eight children), children visited near-first; leaves tested a SoA block of [`BLOCK`] primitives at a time ([`Primitive::load_block`]) |
+//! | [`closest_ray`], [`occluded_ray`] | one | one `f32x8` box test per node (its eight children, on the entry and exit faces picked once per ray); closest hit visits children near-first, occlusion in any order; leaves tested a SoA block of [`BLOCK`] primitives at a time ([`Primitive::load_block`]) |
 //! | [`closest_packet`], [`closest_t_packet`], [`occluded_packet`] | `L::LANES` | the packet's active mask goes down the tree together, children visited near-first by the packet's entry distance; when a node is reached by at most a quarter of the lanes (and at most 2), those continue ray by ray (hybrid traversal) |
 //! | [`closest`], [`occluded`] | any slice | packets where a packet's rays share a direction octant (coherent), single rays elsewhere |
 //!
@@ -94,8 +94,9 @@ fn f32_bound<S: Scalar>(t: S) -> f32 {
 /// so far in and the final one out. With `ANY`, returns at the first hit (`true`).
 ///
 /// Each node's eight boxes are tested at once on the entry and exit faces picked once per ray
-/// ([`slab_planes`]); the nearest child hit is visited next without a stack round trip, the
-/// others are pushed farthest first.
+/// ([`slab_planes`]). For the closest hit, the nearest child hit is visited next without a
+/// stack round trip and the others are pushed farthest first; occlusion needs no order and
+/// pushes them as they come (the order affects speed only, never the answer).
 fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
     bvh: Bvh8Ref<'_, K::Prim>,
     rl: &RayLanes<L>,
