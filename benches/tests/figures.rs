@@ -27,6 +27,27 @@ fn readme_table_is_the_report() {
 }
 
 #[test]
+fn readme_scene_rows_are_the_scene_report() {
+    // The README's scene table is a selection of Sponza's rows in `benches/scenes.md`, copied
+    // verbatim: every row must be one of the report's Sponza rows.
+    let md = std::fs::read_to_string(root().join("benches/scenes.md")).expect("scenes.md");
+    let sponza = &md[md.find("### Sponza").expect("Sponza section")..];
+    let sponza = &sponza[..sponza.find("\n### ").unwrap_or(sponza.len())];
+    let readme = std::fs::read_to_string(root().join("README.md")).expect("README");
+    let (start, end) = ("<!-- scenes:begin -->\n", "<!-- scenes:end -->");
+    let a = readme.find(start).expect("README has the scenes start marker") + start.len();
+    let b = readme.find(end).expect("README has the scenes end marker");
+    let rows: Vec<&str> = readme[a..b].lines().skip(2).collect();
+    assert!(rows.len() >= 8, "the README's scene table has {} rows", rows.len());
+    for row in rows {
+        assert!(
+            sponza.lines().any(|l| l == row),
+            "README scene row not in benches/scenes.md's Sponza section (rerun and copy): {row}"
+        );
+    }
+}
+
+#[test]
 fn quoted_figures_equal_the_report() {
     let r = Report::load().expect("benches/tradeoff.md parses");
     let mut files = vec![
