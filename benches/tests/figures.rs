@@ -35,10 +35,17 @@ fn readme_scene_rows_are_the_scene_report() {
     let sponza = &sponza[..sponza.find("\n### ").unwrap_or(sponza.len())];
     let readme = std::fs::read_to_string(root().join("README.md")).expect("README");
     let (start, end) = ("<!-- scenes:begin -->\n", "<!-- scenes:end -->");
-    let a = readme.find(start).expect("README has the scenes start marker") + start.len();
+    let a = readme
+        .find(start)
+        .expect("README has the scenes start marker")
+        + start.len();
     let b = readme.find(end).expect("README has the scenes end marker");
     let rows: Vec<&str> = readme[a..b].lines().skip(2).collect();
-    assert!(rows.len() >= 8, "the README's scene table has {} rows", rows.len());
+    assert!(
+        rows.len() >= 8,
+        "the README's scene table has {} rows",
+        rows.len()
+    );
     for row in rows {
         assert!(
             sponza.lines().any(|l| l == row),

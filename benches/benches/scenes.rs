@@ -1,0 +1,97 @@
+//! Criterion benchmarks of scene-scale traversal (the scene report's rows as criterion groups):
+//! BVH build, and closest and any hit through it for 8-ray packets and single rays, on Sponza
+//! (found through `cargo metadata`; skipped with a message when it cannot be found) and a
+//! generated 1 M-triangle sphere. `Throughput::Elements` = rays, so criterion prints rays/s.
+//! The full-frame figures and the peers are in `benches/scenes.md` (`--bin scenes`).
+//!
+//! `RUSTFLAGS="-C target-cpu=native" cargo bench -p octoray-benches --bench scenes`.
+#![allow(missing_docs)]
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use octoray::bvh::traverse::{closest_packet, closest_ray, occluded_ray};
+use octoray::bvh::Bvh8;
+use octoray::kernels::Watertight;
+use octoray::{LaneMask, Ray, RayLanes};
+use octoray_benches::scenes::{jittered_sphere, sponza, SceneSet};
+use std::hint::black_box;
+use std::time::Duration;
+use wide::f32x8;
+
+fn config() -> Criterion {
+    Criterion::default()
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(2))
+        .sample_size(10)
+}
+
+/// One scene: its build, and 16 384 primary rays (a 256×64 band through the frame's middle, in
+/// 4×2 tiles) and their diffuse bounces through the tree.
+fn scene(c: &mut Criterion, s: &SceneSet) {
+    let verts = s.vertex_tris();
+    let mut g = c.benchmark_group(format!("bvh_build_{}", s.name.replace(' ', "_")));
+    g.throughput(Throughput::Elements(verts.len() as u64));
+    g.bench_function("binned_sah", |b| b.iter(|| Bvh8::build(black_box(&verts))));
+    g.finish();
+
+    let bvh = Bvh8::build(&verts);
+    let r = bvh.as_ref();
+    let all = s.primary_tiled(1024, 768, 4, 2);
+    let primary: Vec<Ray> = all[all.len() / 2..all.len() / 2 + 16_384].to_vec();
+    let bounce = s.diffuse_bounces(&primary, &bvh);
+    let mut g = c.benchmark_group(format!("bvh_traverse_{}", s.name.replace(' ', "_")));
+    g.throughput(Throughput::Elements(primary.len() as u64));
+    g.bench_function("primary_closest_packet8", |b| {
+        b.iter(|| {
+            primary
+                .chunks(8)
+                .map(|p| {
+                    closest_packet::<f32x8, Watertight>(r, &RayLanes::load(p))
+                        .mask
+                        .bitmask()
+                        .count_ones()
+                })
+                .sum::<u32>()
+        })
+    });
+    g.bench_function("primary_closest_single", |b| {
+        b.iter(|| {
+            primary
+                .iter()
+                .filter(|p| closest_ray::<f32x8, Watertight>(r, p).is_some())
+                .count()
+        })
+    });
+    g.bench_function("primary_any_single", |b| {
+        b.iter(|| {
+            primary
+                .iter()
+                .filter(|p| occluded_ray::<f32x8, Watertight>(r, p))
+                .count()
+        })
+    });
+    g.throughput(Throughput::Elements(bounce.len() as u64));
+    g.bench_function("bounce_closest_single", |b| {
+        b.iter(|| {
+            bounce
+                .iter()
+                .filter(|p| closest_ray::<f32x8, Watertight>(r, p).is_some())
+                .count()
+        })
+    });
+    g.finish();
+}
+
+fn scenes(c: &mut Criterion) {
+    match sponza() {
+        Ok(s) => scene(c, &s),
+        Err(e) => eprintln!("Sponza skipped: {e}"),
+    }
+    scene(c, &jittered_sphere(1024));
+}
+
+criterion_group! {
+    name = benches;
+    config = config();
+    targets = scenes
+}
+criterion_main!(benches);
