@@ -175,7 +175,7 @@ pub trait Words {
 /// Most lanes any [`Lanes`] type has.
 const MAX_LANES: usize = 16;
 
-/// Primitives one after another, padded to [`MAX_LANES`] with zero primitives so that reading
+/// Primitives one after another, padded to 16 (the most lanes) with zero primitives so that reading
 /// lane `i` needs no bounds check and no branch.
 pub struct Rows<P>([P; MAX_LANES]);
 
