@@ -46,7 +46,7 @@
 
 #[cfg(feature = "alloc")]
 pub use octoray_core::bvh::{BuildStats, Bvh8};
-pub use octoray_core::bvh::{Bvh8Node, Bvh8Ref, BvhError};
+pub use octoray_core::bvh::{Bvh8Node, Bvh8Ref, BvhError, BLOCK, PAD};
 pub use octoray_core::query::{self, ClosestHit};
 pub use octoray_core::{glam, Hit, LaneMask, Lanes, Ray, RayLanes};
 #[cfg(feature = "sphere")]
