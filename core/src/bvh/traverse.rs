@@ -3,7 +3,7 @@
 //! | call | rays | how |
 //! |---|---|---|
 //! | [`closest_ray`], [`occluded_ray`] | one | one `f32x8` box test per node (its eight children, on the entry and exit faces picked once per ray); closest hit visits children near-first, occlusion in any order; leaves tested a SoA block of [`BLOCK`] primitives at a time ([`Primitive::load_block`]) |
-//! | [`closest_packet`], [`closest_t_packet`], [`occluded_packet`] | `L::LANES` | the packet's active mask goes down the tree together, children visited near-first by the packet's entry distance; when a node is reached by at most a quarter of the lanes (and at most 2), those continue ray by ray (hybrid traversal) |
+//! | [`closest_packet`], [`closest_t_packet`], [`occluded_packet`] | `L::LANES` | the packet's active mask goes down the tree together, children visited near-first by the packet's entry distance (occlusion: in any order); when a node is reached by at most a quarter of the lanes (and at most 2), those continue ray by ray (hybrid traversal) |
 //! | [`closest`], [`occluded`] | any slice | packets where a packet's rays share a direction octant (coherent), single rays elsewhere |
 //!
 //! Every answer equals the brute-force query of [`crate::query`] over the caller's slice (see the
@@ -445,10 +445,15 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
             // Sort key: the entry distance of the first lane that enters (a representative ray
             // of a coherent packet; the order affects speed only, never the answer).
             nears[s] = L::select(m, near, nan);
-            let key = nears[s].lane(mb.trailing_zeros() as usize).to_f32();
+            let key = if ANY {
+                0.0
+            } else {
+                nears[s].lane(mb.trailing_zeros() as usize).to_f32()
+            };
             keys[s] = key;
             let mut j = n;
-            while j > 0 && keys[order[j - 1] as usize] < key {
+            // Occlusion needs no order: children go onto the stack as they come.
+            while !ANY && j > 0 && keys[order[j - 1] as usize] < key {
                 order[j] = order[j - 1];
                 j -= 1;
             }
