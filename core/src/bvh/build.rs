@@ -121,7 +121,6 @@ impl<P: Primitive> Bvh8<P> {
             let mut scratch = Vec::with_capacity(items.len());
             split(&mut bin, &mut items, &mut scratch, 0, refs.len(), 0);
         }
-        let local: Vec<u32> = items.iter().map(|i| i.local).collect();
 
         // Collapse into 8-wide nodes, parents before children; each leaf's primitives go out in
         // whole SoA blocks as the leaf is placed.
@@ -177,13 +176,15 @@ impl<P: Primitive> Bvh8<P> {
                         let (start, count) = (bin[k].start, bin[k].count);
                         node.child[s] = ids.len() as u32;
                         node.count[s] = count as u32;
-                        for part in local[start..start + count].chunks(BLOCK) {
+                        for part in items[start..start + count].chunks(BLOCK) {
                             chunk.clear();
-                            chunk.extend(part.iter().map(|&l| prims[refs[l as usize] as usize]));
+                            chunk.extend(
+                                part.iter().map(|i| prims[refs[i.local as usize] as usize]),
+                            );
                             let at = blocks.len();
                             blocks.resize(at + P::WORDS, [0.0; BLOCK]);
                             P::write_block(&chunk, &mut blocks[at..]);
-                            ids.extend(part.iter().map(|&l| refs[l as usize]));
+                            ids.extend(part.iter().map(|i| refs[i.local as usize]));
                             ids.resize(ids.len().next_multiple_of(BLOCK), PAD);
                         }
                         stats.leaves += 1;
@@ -289,10 +290,10 @@ fn split(
     // Best binned split over the three axes.
     let leaf = leaf_cost(n);
     let area = bounds.half_area();
+    let nb = bins_for(n);
     let mut best: Option<(f32, usize, usize)> = None; // (cost, axis, bins on the left)
     if depth < BALANCED_FROM {
         // Bin all three axes in one pass over the items (the pass is memory-bound).
-        let nb = bins_for(n);
         let scale: [f32; 3] = core::array::from_fn(|a| nb as f32 / (cb.hi[a] - cb.lo[a]));
         let mut bb = [[Aabb::EMPTY; BINS]; 3];
         let mut cnt = [[0usize; BINS]; 3];
@@ -337,10 +338,9 @@ fn split(
         Some((cost, _, _)) if n <= MAX_LEAF && cost >= leaf => return me,
         Some((_, axis, left_bins)) => {
             let (lo, hi) = (cb.lo[axis], cb.hi[axis]);
-            let bins = bins_for(n);
-            let scale = bins as f32 / (hi - lo);
+            let scale = nb as f32 / (hi - lo);
             partition(&mut all[start..end], scratch, |i| {
-                bin_of(i.c[axis], lo, scale, bins) < left_bins
+                bin_of(i.c[axis], lo, scale, nb) < left_bins
             }) + start
         }
         None if n <= MAX_LEAF && depth < BALANCED_FROM => return me,

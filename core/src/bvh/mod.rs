@@ -4,13 +4,13 @@
 //!   `hi[axis][child]`, f32) and their references; 256 bytes, `bytemuck::Pod`.
 //! - [`Bvh8`] (feature `alloc`): the owned tree, built by top-down binned SAH ([`Bvh8::build`]).
 //! - [`Bvh8Ref`]: the same tree as three borrowed slices (nodes, the primitives in leaf order in
-//!   SoA blocks of [`BLOCK`], their indices in the caller's slice). Traversal needs nothing else: no allocator, no `std`. A tree
-//!   built on a host can be written out with `bytemuck` and traversed on a target from
-//!   `&'static` data, after [`Bvh8Ref::new`] has validated it.
+//!   SoA blocks of [`BLOCK`], their indices in the caller's slice). Traversal needs nothing
+//!   else: no allocator, no `std`. A tree built on a host can be written out with `bytemuck`
+//!   and traversed on a target from `&'static` data, after [`Bvh8Ref::new`] has validated it.
 //! - Traversal ([`traverse`]): single rays (one ray against the eight children of a node in one
-//!   `f32x8` box test; leaves tested a block at a time, one vector load per word) and packets (the packet's
-//!   active mask goes down the tree together; a packet that thins out continues ray by ray),
-//!   generic over the kernel tiers and the query kinds.
+//!   `f32x8` box test; leaves tested a block at a time, one vector load per word) and packets
+//!   (the packet's active mask goes down the tree together; a packet that thins out continues
+//!   ray by ray), generic over the kernel tiers and the query kinds.
 //!
 //! # Contract
 //! The answers equal the brute-force queries of [`crate::query`] over the caller's slice, bit for

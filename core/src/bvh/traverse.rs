@@ -200,9 +200,8 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
             }
             continue;
         }
-        // Several. Occlusion needs no order: push them as they come. Closest hit: two children
-        // go nearest next, the other onto the stack (no loop); more are pushed farthest first.
-        let base = stack.len();
+        // Several. Closest hit: of two, the nearer goes next and the other onto the stack (no
+        // loop); more are pushed farthest first. Occlusion needs no order: slot order.
         if !ANY && (bits & (bits - 1)).count_ones() == 1 {
             let (a, b) = (
                 bits.trailing_zeros() as usize,
@@ -218,25 +217,14 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
             }
             continue;
         }
-        if ANY {
-            while bits != 0 {
-                let s = bits.trailing_zeros() as usize;
-                bits &= bits - 1;
-                if node.child[s] != super::EMPTY {
-                    stack.push(entry(s));
-                }
-            }
-            cur = stack.pop();
-            continue;
-        }
-        // Sorted in a local array (slot indices by entry distance, farthest first), then pushed.
+        // Slot indices sorted in a local array by entry distance, farthest first, then pushed.
         let mut order = [0u8; WIDTH];
         let mut n = 0;
         while bits != 0 {
             let s = bits.trailing_zeros() as usize;
             bits &= bits - 1;
             let mut j = n;
-            while j > 0 && near[order[j - 1] as usize] < near[s] {
+            while !ANY && j > 0 && near[order[j - 1] as usize] < near[s] {
                 order[j] = order[j - 1];
                 j -= 1;
             }
@@ -248,7 +236,6 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
                 stack.push(entry(s as usize));
             }
         }
-        let _ = base;
         cur = stack.pop();
     }
     false
