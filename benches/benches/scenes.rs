@@ -8,11 +8,12 @@
 #![allow(missing_docs)]
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use octoray::bvh::traverse::{closest_packet, closest_ray, occluded_ray};
 use octoray::bvh::Bvh8;
 use octoray::kernels::Watertight;
-use octoray::{LaneMask, Ray, RayLanes};
-use octoray_benches::scenes::{jittered_sphere, sponza, SceneSet};
+use octoray::Ray;
+use octoray_benches::scenes::{
+    jittered_sphere, packets_closest, singles_any, singles_closest, sponza, SceneSet,
+};
 use std::hint::black_box;
 use std::time::Duration;
 use wide::f32x8;
@@ -41,42 +42,17 @@ fn scene(c: &mut Criterion, s: &SceneSet) {
     let mut g = c.benchmark_group(format!("bvh_traverse_{}", s.name.replace(' ', "_")));
     g.throughput(Throughput::Elements(primary.len() as u64));
     g.bench_function("primary_closest_packet8", |b| {
-        b.iter(|| {
-            primary
-                .chunks(8)
-                .map(|p| {
-                    closest_packet::<f32x8, Watertight>(r, &RayLanes::load(p))
-                        .mask
-                        .bitmask()
-                        .count_ones()
-                })
-                .sum::<u32>()
-        })
+        b.iter(|| packets_closest::<f32x8, Watertight>(r, &primary))
     });
     g.bench_function("primary_closest_single", |b| {
-        b.iter(|| {
-            primary
-                .iter()
-                .filter(|p| closest_ray::<f32x8, Watertight>(r, p).is_some())
-                .count()
-        })
+        b.iter(|| singles_closest::<f32x8, Watertight>(r, &primary))
     });
     g.bench_function("primary_any_single", |b| {
-        b.iter(|| {
-            primary
-                .iter()
-                .filter(|p| occluded_ray::<f32x8, Watertight>(r, p))
-                .count()
-        })
+        b.iter(|| singles_any::<f32x8, Watertight>(r, &primary))
     });
     g.throughput(Throughput::Elements(bounce.len() as u64));
     g.bench_function("bounce_closest_single", |b| {
-        b.iter(|| {
-            bounce
-                .iter()
-                .filter(|p| closest_ray::<f32x8, Watertight>(r, p).is_some())
-                .count()
-        })
+        b.iter(|| singles_closest::<f32x8, Watertight>(r, &bounce))
     });
     g.finish();
 }

@@ -3,10 +3,10 @@
 //! and one diffuse bounce per primary hit.
 
 use glam::Vec3;
-use octoray::bvh::traverse::closest_ray;
-use octoray::bvh::Bvh8;
-use octoray::kernels::Watertight;
-use octoray::{Ray, VertexTriangle};
+use octoray::bvh::traverse::{closest, closest_packet, closest_ray, occluded_packet, occluded_ray};
+use octoray::bvh::{Bvh8, Bvh8Ref};
+use octoray::kernels::{Kernel, Watertight};
+use octoray::{LaneMask, Lanes, Ray, RayLanes, VertexTriangle};
 use octoray_testkit::camera::Pinhole;
 use std::path::PathBuf;
 use std::process::Command;
@@ -176,4 +176,50 @@ impl SceneSet {
         }
         out
     }
+}
+
+// Traversal of a whole ray slice, each returning its hit count (what the scene report and the
+// criterion group time).
+
+/// Closest hit of `rays` in packets of `L::LANES`; returns the number of hits.
+pub fn packets_closest<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]) -> u64 {
+    rays.chunks(L::LANES)
+        .map(|c| {
+            let h = closest_packet::<L, K>(bvh, &RayLanes::load(c));
+            u64::from(h.mask.bitmask().count_ones())
+        })
+        .sum()
+}
+
+/// Occlusion of `rays` in packets of `L::LANES`; returns the number occluded.
+pub fn packets_any<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]) -> u64 {
+    rays.chunks(L::LANES)
+        .map(|c| {
+            u64::from(
+                occluded_packet::<L, K>(bvh, &RayLanes::load(c))
+                    .bitmask()
+                    .count_ones(),
+            )
+        })
+        .sum()
+}
+
+/// Closest hit of each ray alone; returns the number of hits.
+pub fn singles_closest<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]) -> u64 {
+    rays.iter()
+        .filter(|r| closest_ray::<L, K>(bvh, r).is_some())
+        .count() as u64
+}
+
+/// Occlusion of each ray alone; returns the number occluded.
+pub fn singles_any<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]) -> u64 {
+    rays.iter().filter(|r| occluded_ray::<L, K>(bvh, r)).count() as u64
+}
+
+/// Closest hit through the batch call (packets or single rays per chunk); returns the number of
+/// hits.
+pub fn batch_closest<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]) -> u64 {
+    let mut out = vec![None; rays.len()];
+    closest::<L, K>(bvh, rays, &mut out);
+    out.iter().filter(|h| h.is_some()).count() as u64
 }

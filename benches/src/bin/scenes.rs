@@ -6,14 +6,15 @@
 //! (`-- --quick` for one run per row instead of the best of three; `-- --only TEXT` for the rows
 //! whose description contains TEXT, and `-- --sponza` for Sponza alone).
 
-use octoray::bvh::traverse::{closest, closest_packet, closest_ray, occluded_packet, occluded_ray};
-use octoray::bvh::{Bvh8, Bvh8Ref};
-use octoray::kernels::{Kernel, MollerTrumbore, Watertight};
-use octoray::{LaneMask, Lanes, RayLanes};
-use octoray::{PackedTriangle, Ray};
+use octoray::bvh::Bvh8;
+use octoray::kernels::{MollerTrumbore, Watertight};
+use octoray::PackedTriangle;
 use octoray_benches::embree::EmbreeScene;
 use octoray_benches::scene_peers::{BvhScene, ObvhsScene};
-use octoray_benches::scenes::{jittered_sphere, sponza, SceneSet};
+use octoray_benches::scenes::{
+    batch_closest, jittered_sphere, packets_any, packets_closest, singles_any, singles_closest,
+    sponza, SceneSet,
+};
 use rayon::prelude::*;
 use std::fmt::Write as _;
 use std::hint::black_box;
@@ -30,43 +31,6 @@ fn best(runs: usize, mut f: impl FnMut() -> u64) -> (f64, u64) {
         t = t.min(s.elapsed().as_secs_f64());
     }
     (t, r)
-}
-
-fn packets_closest<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]) -> u64 {
-    rays.chunks(L::LANES)
-        .map(|c| {
-            let h = closest_packet::<L, K>(bvh, &RayLanes::load(c));
-            u64::from(h.mask.bitmask().count_ones())
-        })
-        .sum()
-}
-
-fn packets_any<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]) -> u64 {
-    rays.chunks(L::LANES)
-        .map(|c| {
-            u64::from(
-                occluded_packet::<L, K>(bvh, &RayLanes::load(c))
-                    .bitmask()
-                    .count_ones(),
-            )
-        })
-        .sum()
-}
-
-fn singles_closest<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]) -> u64 {
-    rays.iter()
-        .filter(|r| closest_ray::<L, K>(bvh, r).is_some())
-        .count() as u64
-}
-
-fn singles_any<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]) -> u64 {
-    rays.iter().filter(|r| occluded_ray::<L, K>(bvh, r)).count() as u64
-}
-
-fn batch_closest<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray]) -> u64 {
-    let mut out = vec![None; rays.len()];
-    closest::<L, K>(bvh, rays, &mut out);
-    out.iter().filter(|h| h.is_some()).count() as u64
 }
 
 /// The two terms of `BuildStats::sah_cost` (1 + Σ inner children's areas; Σ leaf area × count),
