@@ -96,27 +96,36 @@ pub fn closest<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> 
     let pre = K::prepare(ray);
     let t_max = ray.t_max;
     let mut ray = *ray;
-    let mut best = ClosestHit::<L>::miss();
-    best.t = ray.t_max;
+    // The running best lives in locals, not in the returned struct: kept there, it is written
+    // to memory with masked stores on every hit (slow on AMD; seen in the compiled loop).
+    let miss = ClosestHit::<L>::miss();
+    let (mut found, mut t, mut u, mut v, mut index) =
+        (miss.mask, ray.t_max, miss.u, miss.v, miss.prim);
     let mut scale = L::splat(1.0);
     for (i, prim) in prims.iter().enumerate() {
         let h = K::intersect(&ray, &pre, prim);
         if h.mask.any() {
-            let m = h.mask & (!best.mask | h.t.lt(best.t));
-            best.t = L::select(m, h.t, best.t);
-            best.u = L::select(m, h.u, best.u);
-            best.v = L::select(m, h.v, best.v);
+            let m = h.mask & (!found | h.t.lt(t));
+            t = L::select(m, h.t, t);
+            u = L::select(m, h.u, u);
+            v = L::select(m, h.v, v);
             scale = L::select(m, h.scale, scale);
-            best.prim = L::select_index(m, L::splat_index(i as u32), best.prim);
-            best.mask = best.mask | m;
+            index = L::select_index(m, L::splat_index(i as u32), index);
+            found = found | m;
             if !K::EXACT_T_MAX {
-                ray.t_max = L::select(m, loosen(best.t, t_max), ray.t_max);
+                ray.t_max = L::select(m, loosen(t, t_max), ray.t_max);
             }
         }
     }
     // The barycentrics were carried as numerators: one division for the winner.
-    (best.u, best.v) = crate::kernels::barycentrics(best.u, best.v, scale);
-    best
+    let (u, v) = crate::kernels::barycentrics(u, v, scale);
+    ClosestHit {
+        mask: found,
+        t,
+        u,
+        v,
+        prim: index,
+    }
 }
 
 /// `t` moved up by 2⁻²⁰ relative (and the smallest normal), but never past the caller's `t_max`:
