@@ -82,21 +82,22 @@ pub fn intersect_with<L: Lanes, const CULL: bool>(
     if mask.none() {
         return LanesHit::miss(mask);
     }
-    // det is rounding noise when it is below its own error bound, ≲ 3ε·|d|·|e1|·|e2| (L1 norms,
-    // the cancellation in e1 × e2 included): a zero-area triangle (a needle whose packed edges
-    // are parallel) or a ray within ~1e-6 rad of the plane. Such lanes are misses (found by the
-    // fuzz harness: a "hit" 3e18 away from a degenerate 1e19 needle). Off the common path.
-    let norm1 = |v: V3<L>| v.x.abs() + v.y.abs() + v.z.abs();
-    let det_noise = L::splat(DET_NOISE) * norm1(ray.dir) * (norm1(e1) * norm1(e2));
-    mask = mask & abs_det.gt(det_noise);
-    if mask.none() {
-        return LanesHit::miss(mask);
-    }
-
-    // The plane distance, range-tested the same way (t_min ≤ t ≤ t_max scaled by |det|).
+    // The plane distance, range-tested the same way (t_min ≤ t ≤ t_max scaled by |det|). In a
+    // closest-hit query most tests that pass the edges end here: t_max is the nearest hit so far.
     let t_num = s.dot(ng);
     let t_s = t_num.xor_sign(det);
     mask = mask & t_s.ge(ray.t_min * abs_det) & t_s.le(ray.t_max * abs_det);
+    if mask.none() {
+        return LanesHit::miss(mask);
+    }
+    // det is rounding noise when it is below its own error bound, ≲ 3ε·|d|·|e1|·|e2| (L1 norms,
+    // the cancellation in e1 × e2 included): a zero-area triangle (a needle whose packed edges
+    // are parallel) or a ray within ~1e-6 rad of the plane. Such lanes are misses (found by the
+    // fuzz harness: a "hit" 3e18 away from a degenerate 1e19 needle). Tested last, it is
+    // computed only when some lane would otherwise hit.
+    let norm1 = |v: V3<L>| v.x.abs() + v.y.abs() + v.z.abs();
+    let det_noise = L::splat(DET_NOISE) * norm1(ray.dir) * (norm1(e1) * norm1(e2));
+    mask = mask & abs_det.gt(det_noise);
     if mask.none() {
         return LanesHit::miss(mask);
     }
