@@ -174,6 +174,34 @@ proptest! {
         check_all_widths_triangles(&rays, &tris)?;
     }
 
+    /// Coherent packets: every lane's direction has the same dominant axis and signs (each of the
+    /// watertight shear's six axis orders), so the sheared tiers read the vertices in the shared
+    /// order instead of blending per lane; rays aimed at points in and around the triangles
+    /// (their edges and vertices included), so hits and exact-stage lanes occur.
+    #[test]
+    fn coherent_packets_equal_scalar_twin_bitwise(
+        tris in prop::collection::vec((tame(), tame(), tame()).prop_map(|(a, b, c)| [a, b, c]), 1..8),
+        axis in 0usize..3,
+        negative in any::<bool>(),
+        side in (-0.9f32..0.9, -0.9f32..0.9),
+        aims in prop::collection::vec((0usize..8, prop_oneof![Just(0.0f32), Just(0.5), -0.2f32..1.2], prop_oneof![Just(0.0f32), Just(0.5), -0.2f32..1.2], (-0.01f32..0.01, -0.01f32..0.01), 0.5f32..20.0), 1..40),
+    ) {
+        let rays: Vec<Ray> = aims
+            .iter()
+            .map(|&(j, b1, b2, (jx, jy), dist)| {
+                let mut d = [0.0f32; 3];
+                d[axis] = if negative { -1.0 } else { 1.0 };
+                d[(axis + 1) % 3] = side.0 + jx;
+                d[(axis + 2) % 3] = side.1 + jy;
+                let d = Vec3::from(d);
+                let t = tris[j % tris.len()];
+                let p = t[0] + (t[1] - t[0]) * b1 + (t[2] - t[0]) * b2;
+                Ray::new(p - d * dist, d)
+            })
+            .collect();
+        check_all_widths_triangles(&rays, &tris)?;
+    }
+
     /// Spheres near, far (1e2..1e6 radii away), huge, tiny and invalid; origins on the surface,
     /// rays skimming the rim.
     #[test]

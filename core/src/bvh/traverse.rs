@@ -16,7 +16,7 @@ use crate::hit::Hit;
 use crate::kernels::{barycentrics, Kernel};
 use crate::lanes::V3;
 use crate::lanes::{LaneMask, Lanes, Scalar};
-use crate::prim::{Primitive, BLOCK};
+use crate::prim::{BlockRows, Primitive, BLOCK};
 use crate::prim::{Ray, RayLanes};
 use crate::query::ClosestHit;
 use arrayvec::ArrayVec;
@@ -147,8 +147,8 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
                     } else {
                         L::splat_scalar(bound(t_max, best))
                     };
-                    let prims = <K::Prim as Primitive>::load_block::<L>(block, sub);
-                    let h = K::intersect_lanes(&ray, pre, &prims);
+                    let rows = BlockRows::new::<K::Prim>(block, sub);
+                    let h = K::intersect_words(&ray, pre, &rows);
                     let mut bits = h.mask.bitmask();
                     if ANY && bits != 0 {
                         return true;

@@ -27,8 +27,8 @@ pub mod triangle;
 use crate::lanes::Lanes;
 #[cfg(feature = "sphere")]
 use crate::prim::PackedSphere;
-use crate::prim::Primitive;
 use crate::prim::RayLanes;
+use crate::prim::{One, Primitive, Words};
 
 pub use crate::hit::{barycentrics, LanesHit};
 #[cfg(feature = "triangle")]
@@ -58,10 +58,18 @@ pub trait Kernel<L: Lanes> {
         pre: &Self::Pre,
         prim: &<Self::Prim as Primitive>::Lanes<L>,
     ) -> LanesHit<L>;
+    /// Tests lane `i` of `ray` against primitive `i` of a source of words (one primitive
+    /// broadcast, a slice, a SoA block: [`Words`]). The same as [`Kernel::intersect_lanes`] on
+    /// [`Primitive::from_words`], which is the default; a kernel may read the words another way
+    /// (the watertight tiers read them in the ray's axis order).
+    #[inline(always)]
+    fn intersect_words<W: Words>(ray: &RayLanes<L>, pre: &Self::Pre, words: &W) -> LanesHit<L> {
+        Self::intersect_lanes(ray, pre, &Self::Prim::from_words::<L, W>(words))
+    }
     /// Tests every lane of `ray` against one primitive.
     #[inline(always)]
     fn intersect(ray: &RayLanes<L>, pre: &Self::Pre, prim: &Self::Prim) -> LanesHit<L> {
-        Self::intersect_lanes(ray, pre, &prim.splat::<L>())
+        Self::intersect_words(ray, pre, &One(prim))
     }
 }
 
@@ -165,6 +173,16 @@ macro_rules! sheared_kernel {
             ) -> LanesHit<L> {
                 crate::kernels::triangle::watertight::sheared_body::<L, CULL, $exact>(
                     ray, pre, prim,
+                )
+            }
+            #[inline(always)]
+            fn intersect_words<W: Words>(
+                ray: &RayLanes<L>,
+                pre: &Self::Pre,
+                words: &W,
+            ) -> LanesHit<L> {
+                crate::kernels::triangle::watertight::sheared_words::<L, CULL, $exact, W>(
+                    ray, pre, words,
                 )
             }
         }

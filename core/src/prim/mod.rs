@@ -101,9 +101,13 @@ pub trait Primitive: Copy + bytemuck::Pod {
     /// `f32` words per primitive (the layout is `WORDS` plain `f32`s).
     const WORDS: usize = core::mem::size_of::<Self>() / 4;
     /// `self` in every lane.
-    fn splat<L: Lanes>(&self) -> Self::Lanes<L>;
+    #[inline(always)]
+    fn splat<L: Lanes>(&self) -> Self::Lanes<L> {
+        Self::from_words::<L, _>(&One(self))
+    }
     /// The lanes of primitives read word by word from `words` (lane `i` holds primitive `i` of
-    /// the source). The one body behind [`Primitive::gather`] and [`Primitive::load_block`].
+    /// the source). The one body behind [`Primitive::splat`], [`Primitive::gather`] and
+    /// [`Primitive::load_block`].
     fn from_words<L: Lanes, W: Words>(words: &W) -> Self::Lanes<L>;
     /// `prims[i]` in lane `i` for `i < prims.len()` (at most `L::LANES`); the other lanes hold a
     /// zero primitive, which no kernel hits (callers also mask them off).
@@ -120,10 +124,7 @@ pub trait Primitive: Copy + bytemuck::Pod {
     #[inline(always)]
     fn load_block<L: Lanes>(block: &[[f32; BLOCK]], first: usize) -> Self::Lanes<L> {
         debug_assert!(first == 0 || L::LANES < BLOCK);
-        Self::from_words::<L, _>(&BlockRows {
-            rows: &block[..Self::WORDS],
-            first,
-        })
+        Self::from_words::<L, _>(&BlockRows::new::<Self>(block, first))
     }
     /// Primitive `i` of a SoA block.
     #[inline(always)]
@@ -160,8 +161,11 @@ pub trait Primitive: Copy + bytemuck::Pod {
 }
 
 /// A source of primitives' `f32` words for [`Primitive::from_words`]: word `k` of the primitive
-/// in each lane. Implemented by the two storage orders, primitives one after another (what
-/// [`Primitive::gather`] reads) and SoA blocks (what [`Primitive::load_block`] reads).
+/// in each lane. Implemented by one primitive broadcast ([`One`], what [`Primitive::splat`]
+/// reads), the two storage orders, primitives one after another ([`Rows`], what
+/// [`Primitive::gather`] reads) and SoA blocks ([`BlockRows`], what [`Primitive::load_block`]
+/// reads), and, for layouts of points, any of them with the axes of every point permuted
+/// ([`Permuted`]).
 pub trait Words {
     /// Word `k` of each lane's primitive.
     fn word<L: Lanes>(&self, k: usize) -> L;
@@ -169,6 +173,43 @@ pub trait Words {
     #[inline(always)]
     fn word3<L: Lanes>(&self, k: usize) -> V3<L> {
         V3::new(self.word(k), self.word(k + 1), self.word(k + 2))
+    }
+}
+
+impl<W: Words> Words for &W {
+    #[inline(always)]
+    fn word<L: Lanes>(&self, k: usize) -> L {
+        (**self).word(k)
+    }
+}
+
+/// One primitive in every lane.
+pub struct One<'a, P>(pub &'a P);
+
+impl<P: bytemuck::Pod> Words for One<'_, P> {
+    #[inline(always)]
+    fn word<L: Lanes>(&self, k: usize) -> L {
+        let flat: &[f32] = bytemuck::cast_slice(core::slice::from_ref(self.0));
+        L::splat(flat[k])
+    }
+}
+
+/// The words of `words` with the axes of every point permuted: word `3j + i` is the source's
+/// word `3j + axes[i]`. For layouts made of points (the three vertices of a
+/// [`VertexTriangle`]): a kernel that works in a ray-dependent axis order (the watertight shear)
+/// reads its points already in that order, when every lane shares it, at no cost (the loads'
+/// addresses change, not their number).
+pub struct Permuted<W> {
+    /// The source.
+    pub words: W,
+    /// Source axis of each axis of the result (a permutation of `0, 1, 2`).
+    pub axes: [usize; 3],
+}
+
+impl<W: Words> Words for Permuted<W> {
+    #[inline(always)]
+    fn word<L: Lanes>(&self, k: usize) -> L {
+        self.words.word(k - k % 3 + self.axes[k % 3])
     }
 }
 
@@ -192,6 +233,20 @@ impl<P: bytemuck::Pod> Words for Rows<P> {
 pub struct BlockRows<'a> {
     rows: &'a [[f32; BLOCK]],
     first: usize,
+}
+
+impl<'a> BlockRows<'a> {
+    /// Primitives `first..` of a SoA block of `P` ([`Primitive::load_block`]'s source).
+    ///
+    /// # Panics
+    /// When `block` has fewer than `P::WORDS` rows.
+    #[inline(always)]
+    pub fn new<P: Primitive>(block: &'a [[f32; BLOCK]], first: usize) -> Self {
+        Self {
+            rows: &block[..P::WORDS],
+            first,
+        }
+    }
 }
 
 impl Words for BlockRows<'_> {

@@ -77,13 +77,6 @@ pub struct SphereLanes<L> {
 impl Primitive for PackedSphere {
     type Lanes<L: Lanes> = SphereLanes<L>;
     #[inline(always)]
-    fn splat<L: Lanes>(&self) -> SphereLanes<L> {
-        SphereLanes {
-            center: V3::splat(self.center),
-            radius_sq: L::splat(self.radius_sq),
-        }
-    }
-    #[inline(always)]
     fn from_words<L: Lanes, W: Words>(w: &W) -> SphereLanes<L> {
         SphereLanes {
             center: w.word3(0),

@@ -108,16 +108,6 @@ fn normal_lanes<L: Lanes>(stored: V3<L>, e1: V3<L>, e2: V3<L>) -> V3<L> {
 impl Primitive for PackedTriangle {
     type Lanes<L: Lanes> = EdgeLanes<L>;
     #[inline(always)]
-    fn splat<L: Lanes>(&self) -> EdgeLanes<L> {
-        let (e1, e2) = (V3::splat(self.e1), V3::splat(self.e2));
-        EdgeLanes {
-            v0: V3::splat(self.v0),
-            e1,
-            e2,
-            ng: normal_lanes(V3::splat(self.ng), e1, e2),
-        }
-    }
-    #[inline(always)]
     fn from_words<L: Lanes, W: Words>(w: &W) -> EdgeLanes<L> {
         let (e1, e2) = (w.word3(3), w.word3(6));
         EdgeLanes {
@@ -158,14 +148,6 @@ pub struct VertexLanes<L> {
 
 impl Primitive for VertexTriangle {
     type Lanes<L: Lanes> = VertexLanes<L>;
-    #[inline(always)]
-    fn splat<L: Lanes>(&self) -> VertexLanes<L> {
-        VertexLanes {
-            v0: V3::splat(self.v0),
-            v1: V3::splat(self.v1),
-            v2: V3::splat(self.v2),
-        }
-    }
     #[inline(always)]
     fn from_words<L: Lanes, W: Words>(w: &W) -> VertexLanes<L> {
         VertexLanes {

@@ -43,7 +43,7 @@ use crate::hit::LanesHit;
 use crate::kernels::triangle::exact::{resolve, LaneQuery};
 use crate::lanes::V3;
 use crate::lanes::{LaneMask, Lanes, Scalar};
-use crate::prim::{Primitive, VertexLanes};
+use crate::prim::{Permuted, Primitive, VertexLanes, Words};
 use crate::prim::{RayLanes, VertexTriangle};
 
 /// One axis per lane, as two masks (`x`, `y`; neither set means `z`).
@@ -72,6 +72,11 @@ pub struct ShearedRay<L: Lanes> {
     /// Lanes whose shear factors carry a relative rounding error only (normal, or exactly zero
     /// from a zero direction component): the filters' bounds hold there.
     safe: L::Mask,
+    /// The origin in each lane's axis order: `(o[kx], o[ky], o[kz])`.
+    origin: V3<L>,
+    /// `[kx, ky, kz]` when every lane shares them (single rays, coherent packets): the kernel
+    /// then reads the vertices in that order ([`Permuted`]) instead of blending per lane.
+    shared_axes: Option<[usize; 3]>,
 }
 
 impl<L: Lanes> ShearedRay<L> {
@@ -116,6 +121,22 @@ impl<L: Lanes> ShearedRay<L> {
             & (sy.abs().ge(normal) | !dy.ne(zero))
             & sz.abs().ge(normal)
             & sz.is_finite();
+        let same = |m: L::Mask| m.all() || m.none();
+        let shared_axes = (same(z_is_x) && same(z_is_y) && same(swap)).then(|| {
+            let kz = if z_is_x.all() {
+                0
+            } else if z_is_y.all() {
+                1
+            } else {
+                2
+            };
+            let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
+            if swap.all() {
+                [ky, kx, kz]
+            } else {
+                [kx, ky, kz]
+            }
+        });
         Self {
             kx,
             ky,
@@ -124,7 +145,19 @@ impl<L: Lanes> ShearedRay<L> {
             sy,
             sz,
             safe,
+            origin: V3::new(
+                kx.pick(ray.origin),
+                ky.pick(ray.origin),
+                kz.pick(ray.origin),
+            ),
+            shared_axes,
         }
+    }
+
+    /// `v` in each lane's axis order, `(v[kx], v[ky], v[kz])`, by per-lane blends.
+    #[inline(always)]
+    fn permute(&self, v: V3<L>) -> V3<L> {
+        V3::new(self.kx.pick(v), self.ky.pick(v), self.kz.pick(v))
     }
 }
 
@@ -210,6 +243,23 @@ pub(crate) fn sheared_body<L: Lanes, const CULL: bool, const EXACT: bool>(
     sheared_body_traced::<L, CULL, EXACT>(ray, sh, tri).0
 }
 
+/// [`sheared_body`] on primitives read from `words`: in the shared axis order when every lane
+/// has the same one ([`Permuted`], no blends), per lane otherwise. The same bits either way.
+#[inline(always)]
+pub(crate) fn sheared_words<L: Lanes, const CULL: bool, const EXACT: bool, W: Words>(
+    ray: &RayLanes<L>,
+    sh: &ShearedRay<L>,
+    words: &W,
+) -> LanesHit<L> {
+    match sh.shared_axes {
+        Some(axes) => {
+            let tri = VertexTriangle::from_words::<L, _>(&Permuted { words, axes });
+            body::<L, CULL, EXACT, true>(ray, sh, &tri).0
+        }
+        None => body::<L, CULL, EXACT, false>(ray, sh, &VertexTriangle::from_words(words)).0,
+    }
+}
+
 /// [`sheared_body`], also returning the lanes decided by exact arithmetic.
 #[inline(always)]
 pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>(
@@ -217,15 +267,27 @@ pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>
     sh: &ShearedRay<L>,
     tri: &VertexLanes<L>,
 ) -> (LanesHit<L>, L::Mask) {
+    body::<L, CULL, EXACT, false>(ray, sh, tri)
+}
+
+/// The body; `PERMUTED`: `tri`'s coordinates are already in the order `sh.shared_axes`.
+#[inline(always)]
+fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
+    ray: &RayLanes<L>,
+    sh: &ShearedRay<L>,
+    tri: &VertexLanes<L>,
+) -> (LanesHit<L>, L::Mask) {
     let zero = L::zero();
-    // Vertices relative to the origin, permuted so the ray runs along +z, then sheared so it
-    // runs along the z axis itself: the hit test becomes a 2D point-in-triangle test at (0, 0).
-    let a = tri.v0 - ray.origin;
-    let b = tri.v1 - ray.origin;
-    let c = tri.v2 - ray.origin;
-    let (az, bz, cz) = (sh.kz.pick(a), sh.kz.pick(b), sh.kz.pick(c));
-    let (akx, bkx, ckx) = (sh.kx.pick(a), sh.kx.pick(b), sh.kx.pick(c));
-    let (aky, bky, cky) = (sh.ky.pick(a), sh.ky.pick(b), sh.ky.pick(c));
+    // Vertices permuted so the ray runs along +z (kz; kx, ky keep the winding), relative to the
+    // origin, then sheared so the ray runs along the z axis itself: the hit test becomes a 2D
+    // point-in-triangle test at (0, 0).
+    let p = |v: V3<L>| if PERMUTED { v } else { sh.permute(v) };
+    let a = p(tri.v0) - sh.origin;
+    let b = p(tri.v1) - sh.origin;
+    let c = p(tri.v2) - sh.origin;
+    let (akx, aky, az) = (a.x, a.y, a.z);
+    let (bkx, bky, bz) = (b.x, b.y, b.z);
+    let (ckx, cky, cz) = (c.x, c.y, c.z);
     let ax = akx - sh.sx * az;
     let ay = aky - sh.sy * az;
     let bx = bkx - sh.sx * bz;
@@ -374,6 +436,17 @@ pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>
             let i = bits.trailing_zeros() as usize;
             bits &= bits - 1;
             let f = |p: V3<L>| p.lane(i).map(Scalar::to_f32);
+            // The vertices as given: undo the permutation of a permuted read.
+            let vertex = |p: V3<L>| match sh.shared_axes {
+                Some(axes) if PERMUTED => {
+                    let (q, mut v) = (f(p), [0.0; 3]);
+                    for k in 0..3 {
+                        v[axes[k]] = q[k];
+                    }
+                    v
+                }
+                _ => f(p),
+            };
             let whole = (exact_lanes.bitmask() >> i) & 1 == 1;
             let unsafe_lane = (safe_bits >> i) & 1 == 0;
             // The watertight tier decided its edges and its rounded t_max test already; where its
@@ -382,7 +455,7 @@ pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>
             let Some(r) = resolve(&LaneQuery {
                 o: f(ray.origin),
                 d: f(ray.dir),
-                v: [f(tri.v0), f(tri.v1), f(tri.v2)],
+                v: [vertex(tri.v0), vertex(tri.v1), vertex(tri.v2)],
                 t_min: t_min.lane(i).to_f64(),
                 t_max: t_max.lane(i).to_f64(),
                 edges: whole,
