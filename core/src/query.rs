@@ -113,7 +113,9 @@ pub fn closest<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> 
             index = L::select_index(m, L::splat_index(i as u32), index);
             found = found | m;
             if !K::EXACT_T_MAX {
-                ray.t_max = L::select(m, loosen(t, t_max), ray.t_max);
+                // Loosened from the kernel's t (equal to the new best where `m` is set), not from
+                // the running best: off the loop-carried chain from one test's t_max to the next.
+                ray.t_max = L::select(m, loosen(h.t, t_max), ray.t_max);
             }
         }
     }
@@ -161,7 +163,7 @@ pub fn closest_t<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -
             let m = h.mask & (!found | h.t.lt(t));
             t = L::select(m, h.t, t);
             if !K::EXACT_T_MAX {
-                ray.t_max = L::select(m, loosen(t, t_max), ray.t_max);
+                ray.t_max = L::select(m, loosen(h.t, t_max), ray.t_max);
             }
             found = found | h.mask;
         }
