@@ -148,8 +148,23 @@ macro_rules! kernel_without_prepare {
 
 kernel_without_prepare!(#[cfg(feature = "triangle")] [L: Lanes, const CULL: bool] MollerTrumbore<CULL>, PackedTriangle, L,
     crate::kernels::triangle::moller_trumbore::intersect_with::<L, CULL>);
-kernel_without_prepare!(#[cfg(feature = "sphere")] [L: Lanes] StableSphere, PackedSphere, L,
-    crate::kernels::sphere::stable::intersect_lanes);
+#[cfg(feature = "sphere")]
+impl<L: Lanes> Kernel<L> for StableSphere {
+    type Prim = PackedSphere;
+    type Pre = crate::kernels::sphere::stable::SphereRay<L>;
+    #[inline(always)]
+    fn prepare(ray: &RayLanes<L>) -> Self::Pre {
+        crate::kernels::sphere::stable::SphereRay::new(ray)
+    }
+    #[inline(always)]
+    fn intersect_lanes(
+        ray: &RayLanes<L>,
+        pre: &Self::Pre,
+        prim: &<PackedSphere as Primitive>::Lanes<L>,
+    ) -> LanesHit<L> {
+        crate::kernels::sphere::stable::intersect_lanes(ray, pre, prim)
+    }
+}
 kernel_without_prepare!(#[cfg(feature = "sphere")] [L: Lanes] NaiveSphere, PackedSphere, L,
     crate::kernels::sphere::naive::intersect_lanes);
 

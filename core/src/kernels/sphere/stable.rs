@@ -24,26 +24,52 @@ use crate::lanes::{LaneMask, Lanes};
 use crate::prim::{PackedSphere, RayLanes};
 use crate::prim::{Primitive, SphereLanes};
 
+/// Per-ray precomputation: `a = d·d` and its reciprocal, correctly rounded (a division per
+/// ray, not per test: the kernel's only other divisions are one per root).
+#[derive(Clone, Copy, Debug)]
+pub struct SphereRay<L> {
+    a: L,
+    inv_a: L,
+}
+
+impl<L: Lanes> SphereRay<L> {
+    /// Precomputes `ray`'s `a = d·d` and `1/a`.
+    #[inline(always)]
+    pub fn new(ray: &RayLanes<L>) -> Self {
+        let a = ray.dir.dot(ray.dir);
+        Self {
+            a,
+            inv_a: L::splat(1.0) / a,
+        }
+    }
+}
+
 /// Tests every lane of `ray` against one sphere.
 #[inline(always)]
 pub fn intersect<L: Lanes>(ray: &RayLanes<L>, sphere: &PackedSphere) -> LanesHit<L> {
-    intersect_lanes(ray, &sphere.splat())
+    intersect_lanes(ray, &SphereRay::new(ray), &sphere.splat())
 }
 
-/// Tests lane `i` of `ray` against lane `i` of `sphere`.
+/// Tests lane `i` of `ray` (precomputed in `pre`) against lane `i` of `sphere`.
 #[inline(always)]
-pub fn intersect_lanes<L: Lanes>(ray: &RayLanes<L>, sphere: &SphereLanes<L>) -> LanesHit<L> {
+pub fn intersect_lanes<L: Lanes>(
+    ray: &RayLanes<L>,
+    pre: &SphereRay<L>,
+    sphere: &SphereLanes<L>,
+) -> LanesHit<L> {
     let zero = L::zero();
     let d = ray.dir;
     let r2 = sphere.radius_sq;
     // |f + t·d|² = r² with f = o − c: a t² + 2h t + c = 0, a = d·d, h = f·d, c = f·f − r².
     let f = ray.origin - sphere.center;
-    let a = d.dot(d);
+    let (a, inv_a) = (pre.a, pre.inv_a);
     let h = f.dot(d);
     let c = f.dot(f) - r2;
     // Δ/4 = h² − a c = a (r² − |l|²), where l = f − (h/a) d is the centre's perpendicular offset
-    // from the ray line: no cancellation between two large nearly equal terms.
-    let l = f - d * (h / a);
+    // from the ray line: no cancellation between two large nearly equal terms. h/a is formed as
+    // h·(1/a) (two roundings, not one): a division on every test's critical path cost more than
+    // the rest of the test.
+    let l = f - d * (h * inv_a);
     let disc = a * (r2 - l.dot(l));
     let mask = ray.active & a.gt(zero) & a.is_finite() & disc.ge(zero);
     if mask.none() {
@@ -54,7 +80,7 @@ pub fn intersect_lanes<L: Lanes>(ray: &RayLanes<L>, sphere: &SphereLanes<L>) -> 
     let sq = disc.sqrt();
     let q = -(h + L::select(h.lt(zero), -sq, sq));
     let t0 = c / q;
-    let t1 = q / a;
+    let t1 = q * inv_a;
     let ordered = t0.le(t1);
     let near = L::select(ordered, t0, t1);
     let far = L::select(ordered, t1, t0);
