@@ -5,15 +5,18 @@
 
 use std::path::PathBuf;
 
-/// The report's table: column names and rows of cells, as written.
+/// The report's tables: the main one (every kernel and peer: speed, accuracy, cracks) and the
+/// ones after it, as column names and rows of cells, as written.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Report {
-    /// The text above the table (machine, build, workload).
+    /// The text above the main table (machine, build, workload).
     pub preamble: String,
-    /// Column names.
+    /// The main table's column names.
     pub columns: Vec<String>,
-    /// Rows of cells, the first cell being the kernel's name.
+    /// The main table's rows of cells, the first cell being the kernel's name.
     pub rows: Vec<Vec<String>>,
+    /// The later tables (column names, rows), in order; quotes may name their cells too.
+    pub more: Vec<(Vec<String>, Vec<Vec<String>>)>,
 }
 
 /// Where the report lives.
@@ -27,39 +30,51 @@ fn cells(line: &str) -> Vec<String> {
 }
 
 impl Report {
-    /// Parses the report's markdown: the preamble, then one table.
+    /// Parses the report's markdown: the preamble, the main table, then any further tables.
     pub fn parse(md: &str) -> Result<Self, String> {
         let lines: Vec<&str> = md.lines().collect();
-        let head = lines
-            .iter()
-            .position(|l| l.starts_with('|'))
-            .ok_or("no table in the report")?;
-        let columns = cells(lines[head]);
-        if !lines.get(head + 1).is_some_and(|l| l.starts_with("|---")) {
-            return Err("table header has no separator line".into());
-        }
-        let mut rows = vec![];
-        for l in &lines[head + 2..] {
-            if !l.starts_with('|') {
-                break;
+        let mut tables = vec![];
+        let mut i = 0;
+        let mut preamble = None;
+        while i < lines.len() {
+            if !lines[i].starts_with('|') {
+                i += 1;
+                continue;
             }
-            let row = cells(l);
-            if row.len() != columns.len() {
-                return Err(format!(
-                    "row has {} cells, header {}: {l}",
-                    row.len(),
-                    columns.len()
-                ));
+            preamble.get_or_insert_with(|| lines[..i].join("\n"));
+            let columns = cells(lines[i]);
+            if !lines.get(i + 1).is_some_and(|l| l.starts_with("|---")) {
+                return Err("table header has no separator line".into());
             }
-            rows.push(row);
+            let mut rows = vec![];
+            i += 2;
+            while i < lines.len() && lines[i].starts_with('|') {
+                let row = cells(lines[i]);
+                if row.len() != columns.len() {
+                    return Err(format!(
+                        "row has {} cells, header {}: {}",
+                        row.len(),
+                        columns.len(),
+                        lines[i]
+                    ));
+                }
+                rows.push(row);
+                i += 1;
+            }
+            if rows.is_empty() {
+                return Err("table has no rows".into());
+            }
+            tables.push((columns, rows));
         }
-        if rows.is_empty() {
-            return Err("table has no rows".into());
+        if tables.is_empty() {
+            return Err("no table in the report".into());
         }
+        let (columns, rows) = tables.remove(0);
         Ok(Self {
-            preamble: lines[..head].join("\n"),
+            preamble: preamble.unwrap_or_default(),
             columns,
             rows,
+            more: tables,
         })
     }
 
@@ -70,11 +85,16 @@ impl Report {
         Self::parse(&md)
     }
 
-    /// The cell of `row` (a kernel name, exactly) in `column` (a column name, exactly).
+    /// The cell of `row` (a row's first cell, exactly) in `column` (a column name, exactly): in
+    /// the main table, else in the first later table that has both.
     pub fn cell(&self, row: &str, column: &str) -> Option<&str> {
-        let c = self.columns.iter().position(|x| x == column)?;
-        let r = self.rows.iter().find(|r| r[0] == row)?;
-        Some(&r[c])
+        core::iter::once((&self.columns, &self.rows))
+            .chain(self.more.iter().map(|(c, r)| (c, r)))
+            .find_map(|(columns, rows)| {
+                let c = columns.iter().position(|x| x == column)?;
+                let r = rows.iter().find(|r| r[0] == row)?;
+                Some(r[c].as_str())
+            })
     }
 
     /// The leading number of a cell (`"2.39 est."` → 2.39, `"1.540 %"` → 1.54).
@@ -160,6 +180,17 @@ pub fn quotes(text: &str) -> Vec<Quote> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn later_tables_can_be_quoted() {
+        let md = "build: AVX2;\n\n| kernel | ns/test |\n|---|---|\n| a | 0.5 |\n\nSpheres:\n\n| sphere kernel | ns/test | x |\n|---|---|---|\n| s, 8 lanes | 1.8 | y |\n";
+        let r = Report::parse(md).unwrap();
+        assert_eq!(r.rows.len(), 1);
+        assert_eq!(r.number("s, 8 lanes", "ns/test"), Some(1.8));
+        assert_eq!(r.cell("s, 8 lanes", "x"), Some("y"));
+        assert_eq!(r.cell("a", "x"), None);
+        assert!(Report::parse("| a | b |\n|---|---|\n| 1 |\n").is_err());
+    }
 
     #[test]
     fn parses_a_table_and_finds_quotes() {
