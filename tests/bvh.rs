@@ -179,6 +179,60 @@ fn rays(rng: &mut Rng, targets: &[Vec3], off: Vec3, s: f32, n: usize) -> Vec<Ray
     out
 }
 
+/// Coherent groups of 16 rays (every width's packets inside one group): one origin region and
+/// one direction octant per group, aimed near one target, as camera packets are, so packet
+/// traversal takes its frustum path. Some groups are axis-parallel (the same signed zero in
+/// every lane), some lanes have their own ranges, a NaN `t_min` or a NaN direction.
+fn coherent_rays(rng: &mut Rng, targets: &[Vec3], off: Vec3, s: f32, groups: usize) -> Vec<Ray> {
+    let mut out = Vec::with_capacity(16 * groups);
+    for _ in 0..groups {
+        let o = if rng.below(2) == 0 {
+            off + rng.vec3(0.5 * s)
+        } else {
+            off + rng.vec3(3.0 * s)
+        };
+        let target = targets[(rng.next_u64() % targets.len() as u64) as usize];
+        let mut base = target - o;
+        let flat = rng.below(4) == 0;
+        if flat {
+            // One component zero in every lane, with one sign for the group.
+            let k = (rng.next_u64() % 3) as usize;
+            let mut d = base.to_array();
+            d[k] = if rng.below(2) == 0 { 0.0 } else { -0.0 };
+            base = Vec3::from(d);
+        }
+        let spread = [0.0, 1e-3, 0.05][(rng.next_u64() % 3) as usize];
+        for _ in 0..16 {
+            let origin = o + rng.vec3(spread * s);
+            let jitter = rng.vec3(spread * base.length());
+            // The group's signs on every axis (zero components stay the group's zero).
+            let dir = Vec3::from(core::array::from_fn::<f32, 3, _>(|k| {
+                let b = base[k];
+                if b == 0.0 {
+                    b
+                } else {
+                    (b + jitter[k]).abs().copysign(b)
+                }
+            }));
+            let (mut t_min, t_max) = match rng.next_u64() % 6 {
+                0 => (rng.range(0.0, 0.5), rng.range(0.5, 2.0)),
+                1 => (0.0, 1.0),
+                _ => (0.0, f32::INFINITY),
+            };
+            if rng.below(40) == 0 {
+                t_min = f32::NAN;
+            }
+            let dir = if rng.below(40) == 0 {
+                Vec3::new(f32::NAN, 1.0, 0.0)
+            } else {
+                dir
+            };
+            out.push(Ray::with_range(origin, dir, t_min, t_max));
+        }
+    }
+    out
+}
+
 fn targets(tris: &[[Vec3; 3]], rng: &mut Rng) -> Vec<Vec3> {
     tris.iter()
         .map(|t| match rng.next_u64() % 4 {
@@ -194,7 +248,8 @@ fn triangle_scene(seed: u64) {
     let mut rng = Rng(seed);
     let (tris, off, s) = triangles(&mut rng);
     let tg = targets(&tris, &mut rng);
-    let rays = rays(&mut rng, &tg, off, s, 96);
+    let mut rays = rays(&mut rng, &tg, off, s, 96);
+    rays.extend(coherent_rays(&mut rng, &tg, off, s, 4));
     let packed: Vec<PackedTriangle> = tris
         .iter()
         .map(|t| PackedTriangle::new(t[0], t[1], t[2]))
@@ -230,7 +285,8 @@ fn sphere_scene(seed: u64) {
         })
         .collect();
     let tg: Vec<Vec3> = spheres.iter().map(|c| c.0).collect();
-    let rays = rays(&mut rng, &tg, off, s, 96);
+    let mut rays = rays(&mut rng, &tg, off, s, 96);
+    rays.extend(coherent_rays(&mut rng, &tg, off, s, 4));
     let packed: Vec<PackedSphere> = spheres
         .iter()
         .map(|&(c, r)| PackedSphere::new(c, r))
@@ -449,6 +505,108 @@ fn regression_zero_area_triangle_scene() {
     // Found by the equality proptest against the (since removed) fast tier, which reported a hit
     // (u = v = 0) on a collinear triangle far from the ray; kept for the remaining tiers.
     triangle_scene(10981392969920591453);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(4096))]
+    /// The packet frustum never drops a child some valid lane's slab test keeps: random nodes
+    /// (boxes at any scale, empty slots, flat boxes) against coherent packets (shared signs,
+    /// zero components, NaN ranges and directions in some lanes), every t_max.
+    #[test]
+    #[allow(clippy::needless_range_loop)] // children are columns of the node's rows
+    fn frustum_keeps_every_child_a_lane_enters(seed in any::<u64>()) {
+        use octoray::bvh::slab::{slab, BoxRay, Frustum};
+        use octoray::V3;
+        let mut rng = Rng(seed);
+        let s = 10f32.powf(rng.range(-6.0, 6.0));
+        let off = rng.vec3(1.0) * 10f32.powf(rng.range(-3.0, 6.0));
+        let target = off + rng.vec3(s);
+        let rays = coherent_rays(&mut rng, &[target], off, s, 1);
+        let rays = &rays[..8];
+        let packet = RayLanes::<f32x8>::load(rays);
+        let br = BoxRay::new(&packet);
+        let Some(f) = Frustum::new(&br) else {
+            // Only when no lane is valid (the group shares its signs).
+            prop_assert!(br.valid.none());
+            return Ok(());
+        };
+        let valid: Vec<usize> = (0..8).filter(|i| (br.valid.bitmask() >> i) & 1 == 1).collect();
+        // Boxes at the decision boundary of some lane: around, or with a face through, a point
+        // of that lane's ray, nudged by 0 to 2^-14 of its magnitude, some of them points or
+        // flat; and empty slots.
+        let mut node = [[0.0f32; 8]; 8];
+        let mut t_at = [0.0f32; 8];
+        for c in 0..8 {
+            if rng.below(10) == 0 {
+                for k in 0..3 {
+                    node[k][c] = f32::INFINITY;
+                    node[3 + k][c] = f32::NEG_INFINITY;
+                }
+                continue;
+            }
+            let r = rays[valid[(rng.next_u64() % valid.len() as u64) as usize]];
+            let t = rng.range(0.0, 2.0) * s / r.dir.length().max(1e-30);
+            t_at[c] = t;
+            let p = r.at(t);
+            let m = p.abs().max_element().max(f32::MIN_POSITIVE);
+            let nudge = [0.0, 1.0 / 1_048_576.0, 1.0 / 131_072.0, 1.0 / 16_384.0]
+                [(rng.next_u64() % 4) as usize];
+            let p = p + rng.vec3(m * nudge);
+            let e = match rng.next_u64() % 4 {
+                0 => Vec3::ZERO,
+                1 => rng.vec3(m * 1e-6).abs(),
+                _ => rng.vec3(s * 0.01).abs(),
+            };
+            let face = rng.below(2) == 0;
+            for k in 0..3 {
+                let (lo, hi) = if face { (p[k], p[k] + e[k]) } else { (p[k] - e[k], p[k] + e[k]) };
+                node[k][c] = lo;
+                node[3 + k][c] = hi;
+            }
+            if rng.below(2) == 0 {
+                // Beside the ray on one axis, at the edge of what the slab test keeps: the
+                // origin's slack plus a few multiples of the widening.
+                let k = (rng.next_u64() % 3) as usize;
+                let slack = r.origin.abs().max_element() / 131_072.0;
+                let gap = slack + m * 3.6e-7 * rng.range(0.0, 4.0);
+                if rng.below(2) == 0 {
+                    node[k][c] = p[k] + gap;
+                    node[3 + k][c] = p[k] + gap + e[k];
+                } else {
+                    node[k][c] = p[k] - gap - e[k];
+                    node[3 + k][c] = p[k] - gap;
+                }
+            }
+        }
+        for round in 0..4 {
+            // Per-lane bounds (a closest-hit packet's `cull`): infinite, at a child's point,
+            // just before or after it, or NaN; the frustum gets the largest (NaN if any is).
+            let cull: [f32; 8] = core::array::from_fn(|_| {
+                let t = t_at[(rng.next_u64() % 8) as usize];
+                match (rng.next_u64() + round) % 6 {
+                    0 => f32::INFINITY,
+                    1 => t,
+                    2 => t * (1.0 - 1.0 / 1_048_576.0),
+                    3 => t * (1.0 + 1.0 / 1_048_576.0),
+                    4 if rng.below(8) == 0 => f32::NAN,
+                    _ => t * 0.5,
+                }
+            });
+            let t_max = valid.iter().fold(f32::NEG_INFINITY, |m, &i| {
+                if m.is_nan() || cull[i].is_nan() { f32::NAN } else { m.max(cull[i]) }
+            });
+            let passed = f.children(&node, t_max);
+            for c in 0..8 {
+                let lo = V3::<f32x8>::splat([node[0][c], node[1][c], node[2][c]]);
+                let hi = V3::<f32x8>::splat([node[3][c], node[4][c], node[5][c]]);
+                let lanes = slab(lo, hi, &br, f32x8::from(cull)).0.bitmask();
+                prop_assert!(
+                    lanes == 0 || (passed >> c) & 1 == 1,
+                    "child {c} dropped, lanes {lanes:#b} enter, t_max {t_max}"
+                );
+            }
+        }
+    }
 }
 
 #[test]

@@ -151,6 +151,119 @@ pub fn slab_planes<L: Lanes>(entry: V3<L>, exit: V3<L>, r: &BoxRay<L>, t_max: L)
     (r.valid & near.le(far), near)
 }
 
+/// A coherent packet's frustum: one `f32x8` test of all eight children of a node that rejects a
+/// child only when every valid lane of the packet would reject it in [`slab`]. It lets a packet
+/// skip the per-child, per-lane tests of children no ray enters (most of them, for coherent
+/// primary rays).
+///
+/// Built from f32 lanes whose direction signs agree on every axis (one entry face per axis for
+/// the whole packet). Per axis, a lane's slab distance is `fl(fl(b − o)·(1/d))`; correctly rounded
+/// operations are monotone, so the distance at the packet's extreme origin, multiplied by the
+/// smallest and the largest reciprocal, bounds every lane's rounded distance (no slack needed
+/// for that step). Axes where some lane has a non-finite reciprocal do not bound the frustum. The
+/// final widening uses twice [`slab`]'s, which covers the rounding of the widening itself; a
+/// NaN anywhere only loosens the test (it is skipped by the reductions, and a NaN comparison
+/// keeps the child).
+#[cfg(feature = "wide")]
+#[derive(Clone, Copy, Debug)]
+pub struct Frustum {
+    /// Per axis: the node row of the entry face and of the exit face (rows 0–2 lower, 3–5 upper).
+    faces: [(usize, usize); 3],
+    /// Per axis: the origin (with its slack) that gives the smallest entry distance, and the
+    /// one that gives the largest exit distance.
+    o_near: [f32; 3],
+    o_far: [f32; 3],
+    /// Per axis: the smallest and largest reciprocal direction; `None` where some lane's is not
+    /// finite.
+    inv: [Option<(f32, f32)>; 3],
+    /// The smallest `t_min` (−inf where some lane's is NaN).
+    t_min: f32,
+}
+
+#[cfg(feature = "wide")]
+impl Frustum {
+    /// The frustum of the valid lanes of `r`, or `None` when their direction signs differ on
+    /// some axis, no lane is valid, or the lanes are not f32.
+    pub fn new<L: Lanes>(r: &BoxRay<L>) -> Option<Self> {
+        use crate::lanes::{LaneMask, Scalar};
+        if <L::Scalar as Scalar>::UNIT_ROUNDOFF != f64::from(f32::EPSILON) / 2.0 {
+            return None;
+        }
+        let valid = r.valid.bitmask();
+        if valid == 0 {
+            return None;
+        }
+        // Horizontal reductions over the valid lanes (the others set to the identity).
+        let fold = |x: L, id: f32, f: fn(f32, f32) -> f32| {
+            let x = L::select(r.valid, x, L::splat(id));
+            (0..L::LANES).fold(id, |m, i| f(m, x.lane(i).to_f32()))
+        };
+        let (inf, ninf) = (f32::INFINITY, f32::NEG_INFINITY);
+        let t_min = L::select(!r.t_min.ge(r.t_min), L::splat(ninf), r.t_min);
+        let mut f = Self {
+            faces: [(0, 3); 3],
+            o_near: [0.0; 3],
+            o_far: [0.0; 3],
+            inv: [None; 3],
+            t_min: fold(t_min, inf, f32::min),
+        };
+        let axes = |v: V3<L>| [v.x, v.y, v.z];
+        let (inv, o_entry, o_exit) = (axes(r.inv), axes(r.o_entry), axes(r.o_exit));
+        for k in 0..3 {
+            let neg = r.neg[k].bitmask() & valid;
+            if neg != 0 && neg != valid {
+                return None;
+            }
+            let neg = neg != 0;
+            f.faces[k] = if neg { (3 + k, k) } else { (k, 3 + k) };
+            if (L::select(r.valid, inv[k], L::zero()).is_finite()).all() {
+                f.inv[k] = Some((fold(inv[k], inf, f32::min), fold(inv[k], ninf, f32::max)));
+            }
+            // (b − o)·(1/d) decreases with o when 1/d > 0: the smallest entry distance comes from
+            // the largest entry origin, the largest exit distance from the smallest exit origin;
+            // the other way round when 1/d < 0.
+            (f.o_near[k], f.o_far[k]) = if neg {
+                (
+                    fold(o_entry[k], inf, f32::min),
+                    fold(o_exit[k], ninf, f32::max),
+                )
+            } else {
+                (
+                    fold(o_entry[k], ninf, f32::max),
+                    fold(o_exit[k], inf, f32::min),
+                )
+            };
+        }
+        Some(f)
+    }
+
+    /// Bit `s` set unless child `s` of the node (its rows: lower x, y, z, upper x, y, z) is missed
+    /// by every valid lane within `[t_min, t_max]`; `t_max` at least every live lane's (NaN: no
+    /// bound).
+    #[inline(always)]
+    pub fn children(&self, rows: &[[f32; 8]; 8], t_max: f32) -> u32 {
+        use crate::lanes::LaneMask;
+        use wide::f32x8;
+        let (mut near, mut far) = (f32x8::splat(self.t_min), f32x8::splat(t_max));
+        for k in 0..3 {
+            let Some((lo, hi)) = self.inv[k] else {
+                continue;
+            };
+            let (lo, hi) = (f32x8::splat(lo), f32x8::splat(hi));
+            let a = f32x8::from(rows[self.faces[k].0]) - f32x8::splat(self.o_near[k]);
+            let b = f32x8::from(rows[self.faces[k].1]) - f32x8::splat(self.o_far[k]);
+            // Products are monotone in each factor: the extremes are at the reciprocal's ends.
+            near = (a * lo).min_or_rhs(a * hi).max_or_rhs(near);
+            far = (b * lo).max_or_rhs(b * hi).min_or_rhs(far);
+        }
+        let c = f32x8::splat(2.0 * TWO_GAMMA3);
+        let tiny = f32x8::splat(2.0 * f32::MIN_POSITIVE);
+        let near = near - (near.abs() * c + tiny);
+        let far = far + (far.abs() * c + tiny);
+        (!near.gt(far)).bitmask()
+    }
+}
+
 /// The box slack of a box at build time: `lo`, `hi` moved outward by [`SLACK`] of the box's
 /// largest coordinate magnitude, then by one ulp.
 pub fn widen(lo: [f32; 3], hi: [f32; 3]) -> ([f32; 3], [f32; 3]) {

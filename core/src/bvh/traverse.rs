@@ -3,14 +3,14 @@
 //! | call | rays | how |
 //! |---|---|---|
 //! | [`closest_ray`], [`occluded_ray`] | one | one `f32x8` box test per node (its eight children, on the entry and exit faces picked once per ray); closest hit visits children near-first, occlusion in any order; leaves tested a SoA block of [`BLOCK`] primitives at a time ([`Primitive::load_block`]) |
-//! | [`closest_packet`], [`closest_t_packet`], [`occluded_packet`] | `L::LANES` | the packet's active mask goes down the tree together, children visited near-first by the packet's entry distance (occlusion: in any order); when a node is reached by at most a quarter of the lanes (and at most 2), those continue ray by ray (hybrid traversal) |
+//! | [`closest_packet`], [`closest_t_packet`], [`occluded_packet`] | `L::LANES` | the packet's active mask goes down the tree together, children visited near-first by the packet's entry distance (occlusion: in any order); a coherent f32 packet (one direction octant) first tests a node's eight boxes against its frustum in one `f32x8` test ([`Frustum`]) and lane by lane only the children that pass; when a node is reached by at most a quarter of the lanes (and at most 2), those continue ray by ray (hybrid traversal) |
 //! | [`closest`], [`occluded`] | any slice | packets where a packet's rays share a direction octant (coherent), single rays elsewhere |
 //!
 //! Every answer equals the brute-force query of [`crate::query`] over the caller's slice (see the
 //! [module contract](super)): same hit/miss, same `t`, `u`, `v` bits, same primitive index
 //! (ties in `t` go to the lower index).
 
-use super::slab::{loosen, slab, slab_planes, BoxRay};
+use super::slab::{loosen, slab, slab_planes, BoxRay, Frustum};
 use super::{Bvh8Ref, STACK, WIDTH};
 use crate::hit::Hit;
 use crate::kernels::{barycentrics, Kernel};
@@ -291,6 +291,24 @@ fn hybrid_threshold<L: Lanes>() -> u32 {
     }
 }
 
+/// The largest of the lanes of `x` set in `m` as f32 (NaN when one of them is NaN; −inf when
+/// `m` is empty).
+#[inline(always)]
+fn largest<L: Lanes>(x: L, m: L::Mask) -> f32 {
+    if (m & !x.ge(x)).any() {
+        return f32::NAN;
+    }
+    let x = L::select(m, x, L::splat(f32::NEG_INFINITY));
+    (0..L::LANES).fold(f32::NEG_INFINITY, |a, i| {
+        let v = x.lane(i).to_f32();
+        if v > a {
+            v
+        } else {
+            a
+        }
+    })
+}
+
 /// The packet walk: `ANY` stops lanes at their first hit.
 fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
     bvh: Bvh8Ref<'_, K::Prim>,
@@ -309,6 +327,9 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
         return best;
     }
     let pre = K::prepare(rays);
+    // Coherent f32 packets test a node's eight boxes against the packet's frustum first, and
+    // the packet lane by lane only against the children that pass.
+    let frustum = Frustum::new(&br);
     let nan = L::splat(f32::NAN);
     let mut stack = ArrayVec::<Entry<L>, STACK>::new();
     stack.push(Entry {
@@ -318,6 +339,8 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
     });
     let mut ray = *rays;
     let mut cull = rays.t_max;
+    // The frustum's t_max: the largest valid lane's `cull`, recomputed when `cull` has moved.
+    let (mut cull_max, mut cull_moved) = (f32::NAN, true);
     while let Some(e) = stack.pop() {
         let mut live = e.near.le(cull);
         if ANY {
@@ -364,6 +387,7 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
                     best.scale = L::select(m, L::splat_scalar(o.scale), best.scale);
                     best.id = L::select_index(m, L::splat_index(o.id), best.id);
                     cull = L::select(m, crate::query::loosen(best.t, rays.t_max), cull);
+                    cull_moved = true;
                 }
             }
             continue;
@@ -406,6 +430,7 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
                     }
                 } else {
                     cull = L::select(m, crate::query::loosen(best.t, rays.t_max), cull);
+                    cull_moved = true;
                 }
             }
             continue;
@@ -417,9 +442,22 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
         let mut keys = [0.0f32; WIDTH];
         let mut order = [0u8; WIDTH];
         let mut n = 0;
+        let passed = match &frustum {
+            Some(f) => {
+                if cull_moved {
+                    cull_max = largest(cull, br.valid);
+                    cull_moved = false;
+                }
+                f.children(bytemuck::cast_ref(node), cull_max)
+            }
+            None => u32::MAX,
+        };
         for s in 0..WIDTH {
             if node.child[s] == super::EMPTY {
                 break;
+            }
+            if (passed >> s) & 1 == 0 {
+                continue;
             }
             let lo = V3::splat([node.lo[0][s], node.lo[1][s], node.lo[2][s]]);
             let hi = V3::splat([node.hi[0][s], node.hi[1][s], node.hi[2][s]]);
