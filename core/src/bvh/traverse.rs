@@ -2,7 +2,7 @@
 //!
 //! | call | rays | how |
 //! |---|---|---|
-//! | [`closest_ray`], [`occluded_ray`] | one | one `f32x8` box test per node (its eight children, on the entry and exit faces picked once per ray); closest hit visits children near-first, occlusion in any order; leaves tested a SoA block of [`BLOCK`] primitives at a time ([`Primitive::load_block`]) |
+//! | [`closest_ray`], [`occluded_ray`] | one | one `f32x8` box test per node (its eight children, on the entry and exit faces picked once per ray); closest hit visits children near-first, occlusion in any order; leaves tested a SoA block of [`BLOCK`] primitives at a time ([`BlockRows`]) |
 //! | [`closest_packet`], [`closest_t_packet`], [`occluded_packet`] | `L::LANES` | the packet's active mask goes down the tree together, children visited near-first by the packet's entry distance (occlusion: in any order); a coherent f32 packet (one direction octant) first tests a node's eight boxes against its frustum in one `f32x8` test ([`Frustum`]) and lane by lane only the children that pass; when a node is reached by at most a quarter of the lanes (and at most 2), those continue ray by ray (hybrid traversal) |
 //! | [`closest`], [`occluded`] | any slice | packets where a packet's rays share a direction octant (coherent), single rays elsewhere |
 //!
@@ -16,7 +16,7 @@ use crate::hit::Hit;
 use crate::kernels::{barycentrics, Kernel};
 use crate::lanes::V3;
 use crate::lanes::{LaneMask, Lanes, Scalar};
-use crate::prim::{BlockRows, Primitive, BLOCK};
+use crate::prim::{BlockLane, BlockRows, BLOCK};
 use crate::prim::{Ray, RayLanes};
 use crate::query::ClosestHit;
 use arrayvec::ArrayVec;
@@ -397,8 +397,8 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
             ray.active = live;
             for k in first..first + e.count as usize {
                 ray.t_max = if K::EXACT_T_MAX { rays.t_max } else { cull };
-                let prim = <K::Prim as Primitive>::from_block(bvh.block_of(k), k % BLOCK);
-                let h = K::intersect(&ray, &pre, &prim);
+                let prim = BlockLane::new::<K::Prim>(bvh.block_of(k), k % BLOCK);
+                let h = K::intersect_words(&ray, &pre, &prim);
                 if h.mask.none() {
                     continue;
                 }

@@ -162,7 +162,7 @@ pub trait Primitive: Copy + bytemuck::Pod {
 
 /// A source of primitives' `f32` words for [`Primitive::from_words`]: word `k` of the primitive
 /// in each lane. Implemented by one primitive broadcast ([`One`], what [`Primitive::splat`]
-/// reads), the two storage orders, primitives one after another ([`Rows`], what
+/// reads; [`BlockLane`] from a SoA block), the two storage orders, primitives one after another ([`Rows`], what
 /// [`Primitive::gather`] reads) and SoA blocks ([`BlockRows`], what [`Primitive::load_block`]
 /// reads), and, for layouts of points, any of them with the axes of every point permuted
 /// ([`Permuted`]).
@@ -191,6 +191,35 @@ impl<P: bytemuck::Pod> Words for One<'_, P> {
     fn word<L: Lanes>(&self, k: usize) -> L {
         let flat: &[f32] = bytemuck::cast_slice(core::slice::from_ref(self.0));
         L::splat(flat[k])
+    }
+}
+
+/// Primitive `i` of a SoA block in every lane (a packet of rays against one primitive of a
+/// BVH leaf): each word broadcast straight from its row.
+pub struct BlockLane<'a> {
+    rows: &'a [[f32; BLOCK]],
+    i: usize,
+}
+
+impl<'a> BlockLane<'a> {
+    /// Primitive `i` of a SoA block of `P`.
+    ///
+    /// # Panics
+    /// When `block` has fewer than `P::WORDS` rows or `i >= BLOCK`.
+    #[inline(always)]
+    pub fn new<P: Primitive>(block: &'a [[f32; BLOCK]], i: usize) -> Self {
+        assert!(i < BLOCK, "octoray: a block holds {BLOCK} primitives");
+        Self {
+            rows: &block[..P::WORDS],
+            i,
+        }
+    }
+}
+
+impl Words for BlockLane<'_> {
+    #[inline(always)]
+    fn word<L: Lanes>(&self, k: usize) -> L {
+        L::splat(self.rows[k][self.i])
     }
 }
 
