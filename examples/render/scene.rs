@@ -312,7 +312,9 @@ where
     StableSphere: Kernel<L, Prim = PackedSphere>,
 {
     let start = std::time::Instant::now();
-    let tree = Bvh8::build(tris);
+    // The binary SAH build on rayon's threads (the same tree as `Bvh8::build`).
+    let tree = Bvh8::try_build_with(tris, &octoray::parallel::Rayon)
+        .unwrap_or_else(|e| panic!("BVH build: {e}"));
     let build_secs = start.elapsed().as_secs_f64();
     let bvh = tree.as_ref();
     let start = std::time::Instant::now();

@@ -1,8 +1,9 @@
 //! Top-down binned SAH build (Wald 2007, "On fast Construction of SAH-based Bounding Volume
 //! Hierarchies"; 32 bins like Embree), a binary tree collapsed into 8-wide nodes.
 //!
-//! Deterministic: plain f32 arithmetic in a fixed order, no hashing, no threads, ties broken by
-//! primitive index, so the same input gives the same tree bit for bit on every build.
+//! Deterministic: plain f32 arithmetic in a fixed order, no hashing, ties broken by primitive
+//! index, so the same input gives the same tree bit for bit on every build; with threads
+//! ([`Bvh8::try_build_with`]) too, since each half of a split only touches its own items.
 
 use super::{slab::widen, Bvh8Node, Bvh8Ref, BvhError, MAX_DEPTH, MAX_PRIMS, PAD, WIDTH};
 use crate::prim::{Aabb, Primitive, BLOCK};
@@ -69,6 +70,32 @@ pub struct BuildStats {
     pub block_fill: f32,
 }
 
+/// Runs two closures and returns both results: how a build runs the two halves of a split.
+/// [`Sequential`] runs them one after the other; a thread pool's join may run them at once (the
+/// facade's `rayon` feature provides one). Every join gives the same tree.
+pub trait Join: Sync {
+    /// Runs `a` and `b`, in any order or at once.
+    fn join<A: Send, B: Send>(
+        &self,
+        a: impl FnOnce() -> A + Send,
+        b: impl FnOnce() -> B + Send,
+    ) -> (A, B);
+}
+
+/// One after the other, on the calling thread (no threads: `no_std` targets).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Sequential;
+
+impl Join for Sequential {
+    fn join<A: Send, B: Send>(
+        &self,
+        a: impl FnOnce() -> A + Send,
+        b: impl FnOnce() -> B + Send,
+    ) -> (A, B) {
+        (a(), b())
+    }
+}
+
 struct BinNode {
     bounds: Aabb,
     /// Inner: children; leaf: `usize::MAX`, with `start..start + count` in `refs`.
@@ -93,6 +120,16 @@ impl<P: Primitive> Bvh8<P> {
 
     /// Builds the tree, or says why not (too many primitives).
     pub fn try_build(prims: &[P]) -> Result<Self, BvhError> {
+        Self::try_build_with(prims, &Sequential)
+    }
+
+    /// [`Bvh8::try_build`] with the two halves of every large split handed to `join`: with a
+    /// thread pool's join (the facade's `rayon` feature: `octoray::parallel::Rayon`) the binary
+    /// build runs on its threads. The tree is the same bit for bit as [`Bvh8::try_build`]'s,
+    /// whatever the join and the number of threads (each half only reads and reorders its own
+    /// items; the halves are joined in order). The collapse into 8-wide nodes stays on the
+    /// calling thread.
+    pub fn try_build_with<J: Join>(prims: &[P], join: &J) -> Result<Self, BvhError> {
         if prims.len() > MAX_PRIMS {
             return Err(BvhError::TooManyPrims(prims.len()));
         }
@@ -116,11 +153,11 @@ impl<P: Primitive> Bvh8<P> {
                 local: k as u32,
             })
             .collect();
-        let mut bin = Vec::new();
-        if !items.is_empty() {
-            let mut scratch = Vec::with_capacity(items.len());
-            split(&mut bin, &mut items, &mut scratch, 0, refs.len(), 0);
-        }
+        let bin = if items.is_empty() {
+            Vec::new()
+        } else {
+            subtree(&mut items, 0, 0, join)
+        };
 
         // Collapse into 8-wide nodes, parents before children; each leaf's primitives go out in
         // whole SoA blocks as the leaf is placed.
@@ -262,31 +299,95 @@ struct Item {
     local: u32,
 }
 
-/// Builds the binary node for `items[start..end]` and returns its index.
+/// Below this many items a subtree is built in one task: the join's overhead would outweigh
+/// the work.
+const PARALLEL_MIN: usize = 8192;
+
+/// The binary subtree over `items` (the node's items, reordered in place), nodes in preorder
+/// with the root first; `base` is the position of `items[0]` among all items. The two halves of
+/// a split go to `join`; the tree is the same whether it runs them one after the other or at
+/// once (each half only reads and reorders its own items).
+fn subtree<J: Join>(items: &mut [Item], base: usize, depth: usize, join: &J) -> Vec<BinNode> {
+    let mut scratch = Vec::new();
+    let mut out = Vec::new();
+    if items.len() < PARALLEL_MIN {
+        split(&mut out, items, &mut scratch, base, 0, items.len(), depth);
+        return out;
+    }
+    let (bounds, mid) = decide(items, &mut scratch, depth);
+    drop(scratch);
+    out.push(BinNode {
+        bounds,
+        left: usize::MAX,
+        right: usize::MAX,
+        start: base,
+        count: items.len(),
+    });
+    let Some(mid) = mid else {
+        return out;
+    };
+    let (l, r) = items.split_at_mut(mid);
+    let (left, right) = join.join(
+        || subtree(l, base, depth + 1, join),
+        || subtree(r, base + mid, depth + 1, join),
+    );
+    for part in [left, right] {
+        let at = out.len();
+        if out[0].left == usize::MAX {
+            out[0].left = at;
+        } else {
+            out[0].right = at;
+        }
+        out.extend(part.into_iter().map(|mut n| {
+            if n.left != usize::MAX {
+                n.left += at;
+                n.right += at;
+            }
+            n
+        }));
+    }
+    out
+}
+
+/// Builds the binary node for `all[start..end]` and its subtree, one task; returns its index
+/// in `out`. Node ranges are offset by `base`.
 fn split(
     out: &mut Vec<BinNode>,
     all: &mut [Item],
     scratch: &mut Vec<Item>,
+    base: usize,
     start: usize,
     end: usize,
     depth: usize,
 ) -> usize {
-    let n = end - start;
-    let items = &all[start..end];
-    let bounds = items.iter().fold(Aabb::EMPTY, |b, i| b.union(i.bx));
-    let cb = items.iter().fold(Aabb::EMPTY, |b, i| b.grow(i.c));
+    let (bounds, mid) = decide(&mut all[start..end], scratch, depth);
     let me = out.len();
     out.push(BinNode {
         bounds,
         left: usize::MAX,
         right: usize::MAX,
-        start,
-        count: n,
+        start: base + start,
+        count: end - start,
     });
-    if n == 1 {
-        return me;
+    if let Some(mid) = mid {
+        let left = split(out, all, scratch, base, start, start + mid, depth + 1);
+        let right = split(out, all, scratch, base, start + mid, end, depth + 1);
+        out[me].left = left;
+        out[me].right = right;
     }
+    me
+}
 
+/// The box of `all`'s items and where to split them (`Some(k)`: `all[..k]` and `all[k..]`,
+/// after reordering), or `None` for a leaf.
+fn decide(all: &mut [Item], scratch: &mut Vec<Item>, depth: usize) -> (Aabb, Option<usize>) {
+    let n = all.len();
+    let items = &all[..];
+    let bounds = items.iter().fold(Aabb::EMPTY, |b, i| b.union(i.bx));
+    let cb = items.iter().fold(Aabb::EMPTY, |b, i| b.grow(i.c));
+    if n == 1 {
+        return (bounds, None);
+    }
     // Best binned split over the three axes.
     let leaf = leaf_cost(n);
     let area = bounds.half_area();
@@ -335,15 +436,15 @@ fn split(
     }
 
     let mid = match best {
-        Some((cost, _, _)) if n <= MAX_LEAF && cost >= leaf => return me,
+        Some((cost, _, _)) if n <= MAX_LEAF && cost >= leaf => return (bounds, None),
         Some((_, axis, left_bins)) => {
             let (lo, hi) = (cb.lo[axis], cb.hi[axis]);
             let scale = nb as f32 / (hi - lo);
-            partition(&mut all[start..end], scratch, |i| {
+            partition(all, scratch, |i| {
                 bin_of(i.c[axis], lo, scale, nb) < left_bins
-            }) + start
+            })
         }
-        None if n <= MAX_LEAF && depth < BALANCED_FROM => return me,
+        None if n <= MAX_LEAF && depth < BALANCED_FROM => return (bounds, None),
         None => {
             // No SAH split (every centre in one bin) or too deep: split by count along the widest
             // centre axis, ties by index, so the tree stays balanced.
@@ -354,19 +455,14 @@ fn split(
                         .then(b.cmp(&a))
                 })
                 .unwrap_or(0);
-            all[start..end]
-                .sort_by(|a, b| a.c[axis].total_cmp(&b.c[axis]).then(a.local.cmp(&b.local)));
+            all.sort_by(|a, b| a.c[axis].total_cmp(&b.c[axis]).then(a.local.cmp(&b.local)));
             if n <= MAX_LEAF {
-                return me;
+                return (bounds, None);
             }
-            start + n / 2
+            n / 2
         }
     };
-    let left = split(out, all, scratch, start, mid, depth + 1);
-    let right = split(out, all, scratch, mid, end, depth + 1);
-    out[me].left = left;
-    out[me].right = right;
-    me
+    (bounds, Some(mid))
 }
 
 #[inline]

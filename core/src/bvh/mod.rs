@@ -267,4 +267,4 @@ impl<'a, P: Primitive> Bvh8Ref<'a, P> {
 }
 
 #[cfg(feature = "alloc")]
-pub use build::{BuildStats, Bvh8};
+pub use build::{BuildStats, Bvh8, Join, Sequential};
