@@ -659,32 +659,6 @@ proptest! {
     }
 }
 
-/// The coherent groups of the proptests above do reach the packet walk's frustum paths: most
-/// give a frustum (shared signs) and most of those are narrow (the walk then trusts the
-/// frustum's child mask for every lane), so both paths are compared with brute force.
-#[test]
-fn coherent_groups_exercise_the_frustum_paths() {
-    use octoray::bvh::slab::{BoxRay, Frustum};
-    let mut rng = Rng(99);
-    let (mut some, mut narrow) = (0, 0);
-    for _ in 0..400 {
-        let s = 10f32.powf(rng.range(-6.0, 6.0));
-        let off = rng.vec3(1.0) * 10f32.powf(rng.range(0.0, 6.0));
-        let target = off + rng.vec3(s);
-        let rays = coherent_rays(&mut rng, &[target], off, s, 1);
-        if let Some(f) = Frustum::new(&BoxRay::new(&RayLanes::<f32x8>::load(&rays[..8]))) {
-            some += 1;
-            narrow += usize::from(f.narrow());
-        }
-    }
-    // (The others have no valid lane: a zero direction where origin and target round together.)
-    assert!(some > 300, "{some} of 400 groups have a frustum");
-    assert!(
-        narrow > 200 && narrow < some,
-        "{narrow} of {some} frustums are narrow"
-    );
-}
-
 #[test]
 fn slab_test_keeps_rays_in_a_face_plane_and_handles_signed_zero_and_subnormal_directions() {
     use octoray::bvh::slab::{slab, BoxRay};

@@ -237,29 +237,11 @@ impl Frustum {
         Some(f)
     }
 
-    /// True when the lanes' directions are close enough that the frustum is about as tight as
-    /// the lanes themselves: on every axis that bounds it, the largest reciprocal is at most
-    /// twice the smallest in magnitude (camera and sun packets). Speed only: traversal then
-    /// trusts the frustum's child mask for every live lane instead of testing lane by lane.
-    pub fn narrow(&self) -> bool {
-        self.inv
-            .iter()
-            .flatten()
-            .all(|&(lo, hi)| lo.abs().max(hi.abs()) <= 2.0 * lo.abs().min(hi.abs()))
-    }
-
     /// Bit `s` set unless child `s` of the node (its rows: lower x, y, z, upper x, y, z) is missed
     /// by every valid lane within `[t_min, t_max]`; `t_max` at least every live lane's (NaN: no
     /// bound).
     #[inline(always)]
     pub fn children(&self, rows: &[[f32; 8]; 8], t_max: f32) -> u32 {
-        self.children_near(rows, t_max).0
-    }
-
-    /// [`Frustum::children`], and per child a lower bound on every valid lane's widened entry
-    /// distance.
-    #[inline(always)]
-    pub fn children_near(&self, rows: &[[f32; 8]; 8], t_max: f32) -> (u32, [f32; 8]) {
         use crate::lanes::LaneMask;
         use wide::f32x8;
         let (mut near, mut far) = (f32x8::splat(self.t_min), f32x8::splat(t_max));
@@ -278,7 +260,7 @@ impl Frustum {
         let tiny = f32x8::splat(2.0 * f32::MIN_POSITIVE);
         let near = near - (near.abs() * c + tiny);
         let far = far + (far.abs() * c + tiny);
-        ((!near.gt(far)).bitmask(), near.to_array())
+        (!near.gt(far)).bitmask()
     }
 }
 

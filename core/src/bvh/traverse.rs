@@ -3,7 +3,7 @@
 //! | call | rays | how |
 //! |---|---|---|
 //! | [`closest_ray`], [`occluded_ray`] | one | one `f32x8` box test per node (its eight children, on the entry and exit faces picked once per ray); closest hit visits children near-first, occlusion in any order; leaves tested a SoA block of [`BLOCK`] primitives at a time ([`BlockRows`]) |
-//! | [`closest_packet`], [`closest_t_packet`], [`occluded_packet`] | `L::LANES` | the packet's active mask goes down the tree together, children visited near-first by the packet's entry distance (occlusion: in any order); a coherent f32 packet (one direction octant) first tests a node's eight boxes against its frustum in one `f32x8` test ([`Frustum`]) and lane by lane only the children that pass, or, when its directions are close ([`Frustum::narrow`]: camera and sun packets), not at all (every live lane goes into every child the frustum keeps; the leaf tests decide); when a node is reached by at most a quarter of the lanes (and at most 2), those continue ray by ray (hybrid traversal) |
+//! | [`closest_packet`], [`closest_t_packet`], [`occluded_packet`] | `L::LANES` | the packet's active mask goes down the tree together, children visited near-first by the packet's entry distance (occlusion: in any order); a coherent f32 packet (one direction octant) first tests a node's eight boxes against its frustum in one `f32x8` test ([`Frustum`]) and lane by lane only the children that pass; when a node is reached by at most a quarter of the lanes (and at most 2), those continue ray by ray (hybrid traversal) |
 //! | [`closest`], [`occluded`] | any slice | packets where a packet's rays share a direction octant (coherent), single rays elsewhere |
 //!
 //! Every answer equals the brute-force query of [`crate::query`] over the caller's slice (see the
@@ -328,11 +328,8 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
     }
     let pre = K::prepare(rays);
     // Coherent f32 packets test a node's eight boxes against the packet's frustum first, and
-    // the packet lane by lane only against the children that pass; narrow ones trust the
-    // frustum (its entry bound serves every lane: a lower bound of each lane's own).
-    // Visiting a box that a lane misses costs time, never an answer: leaves decide hits.
+    // the packet lane by lane only against the children that pass.
     let frustum = Frustum::new(&br);
-    let narrow = frustum.is_some_and(|f| f.narrow());
     let nan = L::splat(f32::NAN);
     let mut stack = ArrayVec::<Entry<L>, STACK>::new();
     stack.push(Entry {
@@ -451,11 +448,10 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
                     cull_max = largest(cull, br.valid);
                     cull_moved = false;
                 }
-                f.children_near(bytemuck::cast_ref(node), cull_max)
+                f.children(bytemuck::cast_ref(node), cull_max)
             }
-            None => (u32::MAX, [0.0; 8]),
+            None => u32::MAX,
         };
-        let (passed, fnear) = passed;
         for s in 0..WIDTH {
             if node.child[s] == super::EMPTY {
                 break;
@@ -465,11 +461,7 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
             }
             let lo = V3::splat([node.lo[0][s], node.lo[1][s], node.lo[2][s]]);
             let hi = V3::splat([node.hi[0][s], node.hi[1][s], node.hi[2][s]]);
-            let (m, near) = if narrow {
-                (live, L::splat(fnear[s]))
-            } else {
-                slab(lo, hi, &br, cull)
-            };
+            let (m, near) = slab(lo, hi, &br, cull);
             let m = m & live;
             let mb = m.bitmask();
             if mb == 0 {
