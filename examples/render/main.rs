@@ -100,8 +100,8 @@ fn main() -> ExitCode {
             .map_or(String::new(), |p| format!(" (mesh from {})", p.display()))
     );
     println!(
-        "  bvh          8-wide, {} nodes, {} leaves, depth {}, SAH cost {:.1}, {:.0} bytes/triangle, built in {:.3} s (1 thread)",
-        img.bvh.nodes, img.bvh.leaves, img.bvh.depth, img.bvh.sah_cost, img.bvh.bytes_per_prim, img.build_secs
+        "  bvh          8-wide, {} nodes, {} leaves, depth {}, SAH cost {:.1}, {:.0} bytes/triangle, built in {:.3} s ({} threads)",
+        img.bvh.nodes, img.bvh.leaves, img.bvh.depth, img.bvh.sah_cost, img.bvh.bytes_per_prim, img.build_secs, rayon::current_num_threads()
     );
     println!(
         "  rays traced  {} (primary and shadow) in {:.3} s: {:.2} Mrays/s on {} threads",
