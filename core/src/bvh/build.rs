@@ -331,13 +331,10 @@ fn subtree<J: Join>(items: &mut [Item], base: usize, depth: usize, join: &J) -> 
         || subtree(l, base, depth + 1, join),
         || subtree(r, base + mid, depth + 1, join),
     );
-    for part in [left, right] {
+    // Preorder: the left subtree right after the root, then the right one; child indices
+    // shifted by where each subtree lands.
+    let mut append = |part: Vec<BinNode>| {
         let at = out.len();
-        if out[0].left == usize::MAX {
-            out[0].left = at;
-        } else {
-            out[0].right = at;
-        }
         out.extend(part.into_iter().map(|mut n| {
             if n.left != usize::MAX {
                 n.left += at;
@@ -345,7 +342,10 @@ fn subtree<J: Join>(items: &mut [Item], base: usize, depth: usize, join: &J) -> 
             }
             n
         }));
-    }
+        at
+    };
+    let (l, r) = (append(left), append(right));
+    (out[0].left, out[0].right) = (l, r);
     out
 }
 
