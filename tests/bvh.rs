@@ -659,6 +659,121 @@ proptest! {
     }
 }
 
+/// One case of [`slab_test_keeps_every_box_the_ray_meets`]: a ray and a box at its decision edge,
+/// or `None` when the draw is unusable. The ray's point `p` is computed in f64 and rounded once,
+/// so the exact crossing distances lie between f32 values (from a representable `t` they would
+/// all round back to it).
+fn slab_case(rng: &mut Rng) -> Option<(Ray, Vec3, Vec3)> {
+    // Box scale, distance to the box, direction length; a quarter of the cases with huge
+    // directions and distances in the subnormal range of t (where only the absolute widening
+    // helps).
+    let (s, dist, len) = if rng.below(4) == 0 {
+        let len = 10f32.powf(rng.range(30.0, 37.0));
+        let dist = len * 10f32.powf(rng.range(-40.0, -38.8));
+        (dist * 10f32.powf(rng.range(-3.0, 0.0)), dist, len)
+    } else {
+        let s = 10f32.powf(rng.range(-6.0, 6.0));
+        let dist = s * 10f32.powf(rng.range(0.0, 4.0));
+        (s, dist, 10f32.powf(rng.range(-3.0, 3.0)))
+    };
+    // The origin at 0 (no origin slack), or small or large against the distance.
+    let origin = match rng.below(3) {
+        0 => Vec3::ZERO,
+        1 => rng.vec3(dist * 1e-4),
+        _ => {
+            let m = dist * 10f32.powf(rng.range(-3.0, 1.0));
+            rng.vec3(m)
+        }
+    };
+    let unit = rng.vec3(1.0);
+    if unit.length() < 1e-6 {
+        return None;
+    }
+    let dir = unit * len;
+    let t = f64::from(dist) / f64::from(unit.length()) / f64::from(len)
+        * (1.0 + f64::from(rng.range(0.0, 1.0)));
+    let p = (origin.as_dvec3() + dir.as_dvec3() * t).as_vec3();
+    // Per axis: p on the lower face, the upper face, or inside.
+    let (mut lo, mut hi) = (p, p);
+    for k in 0..3 {
+        let e = s * rng.range(0.0, 1.0);
+        match rng.below(3) {
+            0 => hi[k] = p[k] + e,
+            1 => lo[k] = p[k] - e,
+            _ => (lo[k], hi[k]) = (p[k] - e, p[k] + e),
+        }
+    }
+    if rng.below(2) == 0 {
+        // Through an edge: the ray enters axis a's slab and leaves axis b's at p (near and far
+        // equal but for roundings).
+        let a = rng.below(3) as usize;
+        let b = (a + 1 + rng.below(2) as usize) % 3;
+        let e = s * rng.range(0.0, 1.0);
+        (lo[a], hi[a]) = if dir[a] >= 0.0 {
+            (p[a], p[a] + e)
+        } else {
+            (p[a] - e, p[a])
+        };
+        (lo[b], hi[b]) = if dir[b] >= 0.0 {
+            (p[b] - e, p[b])
+        } else {
+            (p[b], p[b] + e)
+        };
+    }
+    // One face of one axis moved by 0 to 3 ulps either way.
+    let k = rng.below(3) as usize;
+    for _ in 0..rng.below(4) {
+        match rng.below(4) {
+            0 => lo[k] = lo[k].next_up(),
+            1 => lo[k] = lo[k].next_down(),
+            2 => hi[k] = hi[k].next_up(),
+            _ => hi[k] = hi[k].next_down(),
+        }
+    }
+    if lo[k] > hi[k] {
+        return None;
+    }
+    // Ranges ending at the box, just before it, or not at all.
+    let t = t as f32;
+    let t_max = match rng.below(4) {
+        0 => f32::INFINITY,
+        1 => t,
+        2 => t.next_down(),
+        _ => t * 2.0,
+    };
+    Some((Ray::with_range(origin, dir, 0.0, t_max), lo, hi))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(8192))]
+    /// The slab test keeps every box the ray meets, decided exactly (`oracle::box_meets`), on
+    /// boxes at a ray's decision edge ([`slab_case`], 16 per seed): a corner, an edge or a face
+    /// through a point of the ray, then moved by up to 3 ulps; every scale, huge directions. It
+    /// fails without the relative widening, and without the absolute one.
+    #[test]
+    fn slab_test_keeps_every_box_the_ray_meets(seed in any::<u64>()) {
+        use octoray::bvh::slab::{slab, BoxRay};
+        use octoray::V3;
+        let mut rng = Rng(seed);
+        for _ in 0..16 {
+            let Some((ray, lo, hi)) = slab_case(&mut rng) else {
+                continue;
+            };
+            let truth = testkit::oracle::box_meets(&ray, lo, hi);
+            let br = BoxRay::<f32>::new(&RayLanes::single(&ray));
+            let (lo3, hi3) = (V3::<f32>::splat(lo.to_array()), V3::<f32>::splat(hi.to_array()));
+            let (kept, _) = slab(lo3, hi3, &br, ray.t_max);
+            prop_assert!(
+                truth != Some(true) || kept,
+                "box {lo} {hi} rejected; ray {} {}, t_max {}",
+                ray.origin,
+                ray.dir,
+                ray.t_max
+            );
+        }
+    }
+}
+
 #[test]
 fn slab_test_keeps_rays_in_a_face_plane_and_handles_signed_zero_and_subnormal_directions() {
     use octoray::bvh::slab::{slab, BoxRay};

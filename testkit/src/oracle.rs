@@ -398,3 +398,59 @@ pub fn sphere(ray: &Ray, center: Vec3, r2: f32) -> SphereTruth {
         roots,
     }
 }
+
+/// The exact answer of a box test: does the segment `origin + t·dir`, `t ∈ [t_min, t_max]`, meet
+/// the closed box `[lo, hi]`? `None` for non-finite inputs (an infinite `t_max` is no bound).
+///
+/// Per axis the ray is inside the slab for `t` between `(lo − o)/d` and `(hi − o)/d` (all of
+/// `t` when `d = 0` and `lo ≤ o ≤ hi`, none when `o` is outside); the segment meets the box when
+/// the largest lower end is at most the smallest upper end. The ends are ratios of integers on
+/// one grid, compared by cross-multiplication.
+pub fn box_meets(ray: &Ray, lo: Vec3, hi: Vec3) -> Option<bool> {
+    let vals: Vec<f32> = [ray.origin, ray.dir, lo, hi]
+        .iter()
+        .flat_map(|v| v.to_array())
+        .collect();
+    if !ray.t_min.is_finite() || ray.t_max.is_nan() {
+        return None;
+    }
+    let g = Grid::new(&vals, &[])?;
+    let (o, d, lo, hi) = (g.v(ray.origin), g.v(ray.dir), g.v(lo), g.v(hi));
+    // Interval ends as (num, den) with den > 0.
+    let mut lower: Vec<(BigInt, BigInt)> = Vec::new();
+    let mut upper: Vec<(BigInt, BigInt)> = Vec::new();
+    for k in 0..3 {
+        if d[k].is_zero() {
+            if o[k] < lo[k] || o[k] > hi[k] {
+                return Some(false);
+            }
+            continue;
+        }
+        let (mut a, mut b, mut den) = (&lo[k] - &o[k], &hi[k] - &o[k], d[k].clone());
+        if den.is_negative() {
+            (a, b, den) = (-b, -a, -den);
+        }
+        lower.push((a, den.clone()));
+        upper.push((b, den));
+    }
+    let le = |x: &(BigInt, BigInt), y: &(BigInt, BigInt)| &x.0 * &y.1 <= &y.0 * &x.1;
+    // t_min against every upper end, t_max against every lower end, then the ends pairwise.
+    for u in &upper {
+        if cmp_f32_ratio(ray.t_min, &u.0, &u.1) == Ordering::Greater {
+            return Some(false);
+        }
+    }
+    if ray.t_max.is_finite() {
+        if ray.t_max < ray.t_min {
+            return Some(false);
+        }
+        for l in &lower {
+            if cmp_f32_ratio(ray.t_max, &l.0, &l.1) == Ordering::Less {
+                return Some(false);
+            }
+        }
+    } else if ray.t_max < 0.0 {
+        return Some(false);
+    }
+    Some(lower.iter().all(|l| upper.iter().all(|u| le(l, u))))
+}
