@@ -124,12 +124,17 @@ pub fn slab<L: Lanes>(lo: V3<L>, hi: V3<L>, r: &BoxRay<L>, t_max: L) -> (L::Mask
         L::select(r.neg[1], lo.y, hi.y),
         L::select(r.neg[2], lo.z, hi.z),
     );
-    slab_planes(entry, exit, r, t_max)
+    let (m, near) = slab_planes(entry, exit, r, t_max);
+    (r.valid & m, near)
 }
 
 /// The slab test on the entry and exit faces already picked per axis (what [`slab`] does per
 /// lane; a single ray picks them once per node from its direction's signs): the one body of
 /// every box test.
+///
+/// The mask is not restricted to `r.valid`: a lane that is not valid (NaN or zero direction)
+/// may come out set. [`slab`] masks it; single-ray traversal checks `valid` once per ray and so
+/// keeps the `and` off every node test's latency chain.
 #[inline(always)]
 pub fn slab_planes<L: Lanes>(entry: V3<L>, exit: V3<L>, r: &BoxRay<L>, t_max: L) -> (L::Mask, L) {
     // Per axis: t = (face − o)·(1/d). A NaN (0·inf: the ray runs in that face's plane, or a NaN
@@ -145,7 +150,7 @@ pub fn slab_planes<L: Lanes>(entry: V3<L>, exit: V3<L>, r: &BoxRay<L>, t_max: L)
             .min_or_rhs(((exit.z - r.o_exit.z) * r.inv.z).min_or_rhs(t_max)),
     );
     let (near, far) = widen_range(near, far, 1);
-    (r.valid & near.le(far), near)
+    (near.le(far), near)
 }
 
 /// Moves `near` down and `far` up by `k·2⁻²¹` of themselves and `far` up by `k·2·2⁻¹²⁶` more

@@ -90,8 +90,8 @@ fn f32_bound<S: Scalar>(t: S) -> f32 {
     }
 }
 
-/// One ray (`rl`, broadcast to every lane) from stack entry `start` down. `best` carries the hit
-/// so far in and the final one out. With `ANY`, returns at the first hit (`true`).
+/// One valid ray (`rl`, broadcast to every lane; `br.valid` set) from stack entry `start` down.
+/// `best` carries the hit so far in and the final one out. With `ANY`, returns at the first hit (`true`).
 ///
 /// Each node's eight boxes are tested at once on the entry and exit faces picked once per ray
 /// ([`slab_planes`]). For the closest hit, the nearest child hit is visited next without a
@@ -105,6 +105,9 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
     start: (u32, u32),
     best: &mut Option<Best<L::Scalar>>,
 ) -> bool {
+    // Node tests use `slab_planes`, which leaves `valid` to the caller: every caller passes a
+    // valid ray.
+    debug_assert!(br.valid.all());
     let t_max = rl.t_max.lane(0);
     // A node's rows as `[[f32; 8]; 8]`: lo x, y, z, hi x, y, z, then child and count bits.
     // Per axis, the entry face's row and the exit face's.
