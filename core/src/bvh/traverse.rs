@@ -10,7 +10,7 @@
 //! [module contract](super)): same hit/miss, same `t`, `u`, `v` bits, same primitive index
 //! (ties in `t` go to the lower index).
 
-use super::slab::{loosen, slab, slab_planes, BoxRay, Frustum};
+use super::slab::{extreme_lane, loosen, slab, slab_planes, BoxRay, Frustum};
 use super::{Bvh8Ref, STACK, WIDTH};
 use crate::hit::Hit;
 use crate::kernels::{barycentrics, Kernel};
@@ -301,15 +301,7 @@ fn largest<L: Lanes>(x: L, m: L::Mask) -> f32 {
     if (m & !x.ge(x)).any() {
         return f32::NAN;
     }
-    let x = L::select(m, x, L::splat(f32::NEG_INFINITY));
-    (0..L::LANES).fold(f32::NEG_INFINITY, |a, i| {
-        let v = x.lane(i).to_f32();
-        if v > a {
-            v
-        } else {
-            a
-        }
-    })
+    extreme_lane(x, m, true)
 }
 
 /// The packet walk: `ANY` stops lanes at their first hit.
