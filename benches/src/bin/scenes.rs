@@ -3,7 +3,7 @@
 //! primary and diffuse-bounce rays. Writes `benches/scenes.md` and prints it.
 //!
 //! Run: `RUSTFLAGS="-C target-cpu=native" cargo run --release -p octoray-benches --bin scenes`
-//! (`-- --quick` for one run per row instead of the best of three; `-- --only TEXT` for the rows
+//! (`-- --quick` for one run per row instead of the best of five; `-- --only TEXT` for the rows
 //! whose description contains TEXT, and `-- --sponza` for Sponza alone).
 
 use octoray::bvh::Bvh8;
@@ -424,7 +424,7 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
-    let runs = if quick { 1 } else { 3 };
+    let runs = if quick { 1 } else { 5 };
     let mut md = String::new();
     writeln!(md, "# octoray scene-level report\n").unwrap();
     writeln!(
