@@ -204,7 +204,8 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
             continue;
         }
         // Several. Closest hit: of two, the nearer goes next and the other onto the stack (no
-        // loop); more are pushed farthest first. Occlusion needs no order: slot order.
+        // loop); of three or four, a sorting network orders them; more are sorted by insertion.
+        // Occlusion needs no order: slot order.
         if !ANY && (bits & (bits - 1)).count_ones() == 1 {
             let (a, b) = (
                 bits.trailing_zeros() as usize,
@@ -220,7 +221,34 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
             }
             continue;
         }
-        // Slot indices sorted in a local array by entry distance, farthest first, then pushed.
+        // Three or four (most of the rest): a sorting network of branch-free compare-exchanges
+        // on (entry distance, slot), nearest first; the nearest goes next, the others onto the
+        // stack farthest first.
+        let n = bits.count_ones() as usize;
+        if !ANY && n <= 4 {
+            let mut slots = [0u8; 4];
+            let mut keys = [f32::INFINITY; 4];
+            for (s, k) in slots.iter_mut().zip(&mut keys).take(n) {
+                *s = bits.trailing_zeros() as u8;
+                *k = near[*s as usize];
+                bits &= bits - 1;
+            }
+            // Three: the fourth key is +inf and stays last (one network, no branch on n).
+            for (a, b) in [(0, 1), (2, 3), (0, 2), (1, 3), (1, 2)] {
+                exchange(&mut keys, &mut slots, a, b);
+            }
+            for &s in slots[1..n].iter().rev() {
+                if node.child[s as usize] != super::EMPTY {
+                    stack.push(entry(s as usize));
+                }
+            }
+            if node.child[slots[0] as usize] != super::EMPTY {
+                cur = Some(entry(slots[0] as usize));
+            }
+            continue;
+        }
+        // More: slot indices sorted in a local array by entry distance, farthest first, then
+        // pushed.
         let mut order = [0u8; WIDTH];
         let mut n = 0;
         while bits != 0 {
@@ -242,6 +270,18 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
         cur = stack.pop();
     }
     false
+}
+
+/// Puts the smaller of `keys[a]`, `keys[b]` at `a` and the larger at `b`, their slots with them,
+/// without a branch (a sorting network's compare-exchange).
+#[inline(always)]
+fn exchange(keys: &mut [f32; 4], slots: &mut [u8; 4], a: usize, b: usize) {
+    let swap = keys[b] < keys[a];
+    let (ka, kb, sa, sb) = (keys[a], keys[b], slots[a], slots[b]);
+    keys[a] = if swap { kb } else { ka };
+    keys[b] = if swap { ka } else { kb };
+    slots[a] = if swap { sb } else { sa };
+    slots[b] = if swap { sa } else { sb };
 }
 
 /// Prepares one ray for [`trace_single`] and runs it from the root.
