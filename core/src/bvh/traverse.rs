@@ -2,8 +2,8 @@
 //!
 //! | call | rays | how |
 //! |---|---|---|
-//! | [`closest_ray`], [`occluded_ray`] | one | one `f32x8` box test per node (its eight children, on the entry and exit faces picked once per ray); closest hit visits children near-first, occlusion farthest first for an unbounded ray (`t_max = +inf`) and in slot order otherwise; leaves tested a SoA block of [`BLOCK`] primitives at a time ([`BlockRows`]) |
-//! | [`closest_packet`], [`closest_t_packet`], [`occluded_packet`] | `L::LANES` | the packet's active mask goes down the tree together, children visited near-first by the packet's entry distance (occlusion: in slot order); a coherent f32 packet (one direction octant) first tests a node's eight boxes against its frustum in one `f32x8` test ([`Frustum`]) and lane by lane only the children that pass; when a node is reached by at most a quarter of the lanes (and at most 2), those continue ray by ray (hybrid traversal) |
+//! | [`closest_ray`], [`occluded_ray`] | one | one `f32x8` box test per node (its eight children, on the entry and exit faces picked once per ray); closest hit visits children near-first, occlusion in any order; leaves tested a SoA block of [`BLOCK`] primitives at a time ([`BlockRows`]) |
+//! | [`closest_packet`], [`closest_t_packet`], [`occluded_packet`] | `L::LANES` | the packet's active mask goes down the tree together, children visited near-first by the packet's entry distance (occlusion: in any order); a coherent f32 packet (one direction octant) first tests a node's eight boxes against its frustum in one `f32x8` test ([`Frustum`]) and lane by lane only the children that pass; when a node is reached by at most a quarter of the lanes (and at most 2), those continue ray by ray (hybrid traversal) |
 //! | [`closest`], [`occluded`] | any slice | packets where a packet's rays share a direction octant (coherent), single rays elsewhere |
 //!
 //! Every answer equals the brute-force query of [`crate::query`] over the caller's slice (see the
@@ -95,9 +95,8 @@ fn f32_bound<S: Scalar>(t: S) -> f32 {
 ///
 /// Each node's eight boxes are tested at once on the entry and exit faces picked once per ray
 /// ([`slab_planes`]). For the closest hit, the nearest child hit is visited next without a
-/// stack round trip and the others are pushed farthest first; occlusion visits the farthest
-/// first when the ray is unbounded and goes in slot order otherwise (the order affects speed
-/// only, never the answer).
+/// stack round trip and the others are pushed farthest first; occlusion needs no order and
+/// pushes them as they come (the order affects speed only, never the answer).
 fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
     bvh: Bvh8Ref<'_, K::Prim>,
     rl: &RayLanes<L>,
@@ -110,11 +109,6 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
     // valid ray.
     debug_assert!(br.valid.all());
     let t_max = rl.t_max.lane(0);
-    // Occlusion of an unbounded ray visits the farthest child first: in a closed scene what
-    // occludes such a ray is mostly the enclosing geometry, far along it (Sponza diffuse
-    // bounces, any hit: 3.10 -> 4.28 Mrays/s; primary rays unchanged). Bounded rays (shadow
-    // rays to a light) go in slot order, which measured no worse than either sort there.
-    let far_first = ANY && t_max.to_f64() == f64::INFINITY;
     // A node's rows as `[[f32; 8]; 8]`: lo x, y, z, hi x, y, z, then child and count bits.
     // Per axis, the entry face's row and the exit face's.
     let face = |k: usize| {
@@ -211,6 +205,7 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
         }
         // Several. Closest hit: of two, the nearer goes next and the other onto the stack (no
         // loop); of three or four, a sorting network orders them; more are sorted by insertion.
+        // Occlusion needs no order: slot order.
         if !ANY && (bits & (bits - 1)).count_ones() == 1 {
             let (a, b) = (
                 bits.trailing_zeros() as usize,
@@ -252,17 +247,15 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
             }
             continue;
         }
-        // More, and occlusion: slot indices in a local array, then pushed. Closest hit: sorted
-        // by entry distance, farthest pushed first. Occlusion of an unbounded ray: nearest
-        // pushed first, so the farthest is visited first. Occlusion of a bounded ray: slot order.
-        let sorted = !ANY || far_first;
+        // More: slot indices sorted in a local array by entry distance, farthest first, then
+        // pushed.
         let mut order = [0u8; WIDTH];
         let mut n = 0;
         while bits != 0 {
             let s = bits.trailing_zeros() as usize;
             bits &= bits - 1;
             let mut j = n;
-            while sorted && j > 0 && (near[order[j - 1] as usize] < near[s]) != far_first {
+            while !ANY && j > 0 && near[order[j - 1] as usize] < near[s] {
                 order[j] = order[j - 1];
                 j -= 1;
             }
