@@ -220,8 +220,7 @@ impl Frustum {
         // origins are finite.
         let least = |x: L| extreme_lane(x, r.valid, false);
         let most = |x: L| extreme_lane(x, r.valid, true);
-        let ninf = f32::NEG_INFINITY;
-        let t_min = L::select(!r.t_min.ge(r.t_min), L::splat(ninf), r.t_min);
+        let t_min = L::select(!r.t_min.ge(r.t_min), L::splat(f32::NEG_INFINITY), r.t_min);
         let mut f = Self {
             faces: [(0, 3); 3],
             o_near: [0.0; 3],
@@ -285,14 +284,14 @@ impl Frustum {
 #[cfg(feature = "wide")]
 #[inline(always)]
 pub(crate) fn extreme_lane<L: Lanes>(x: L, m: L::Mask, max: bool) -> f32 {
-    use crate::lanes::Scalar;
+    use crate::lanes::{Scalar, MAX_LANES};
     let id = if max {
         f32::NEG_INFINITY
     } else {
         f32::INFINITY
     };
     let x = L::select(m, x, L::splat(id));
-    let mut a = [id; 16];
+    let mut a = [id; MAX_LANES];
     for (i, a) in a.iter_mut().enumerate().take(L::LANES) {
         *a = x.lane(i).to_f32();
     }

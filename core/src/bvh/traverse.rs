@@ -91,7 +91,8 @@ fn f32_bound<S: Scalar>(t: S) -> f32 {
 }
 
 /// One valid ray (`rl`, broadcast to every lane; `br.valid` set) from stack entry `start` down.
-/// `best` carries the hit so far in and the final one out. With `ANY`, returns at the first hit (`true`).
+/// `best` carries the hit so far in and the final one out. With `ANY`, returns at the first hit
+/// (`true`).
 ///
 /// Each node's eight boxes are tested at once on the entry and exit faces picked once per ray
 /// ([`slab_planes`]). For the closest hit, the nearest child hit is visited next without a

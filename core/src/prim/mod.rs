@@ -23,7 +23,7 @@ pub use sphere::{PackedSphere, Sphere, SphereLanes};
 #[cfg(feature = "triangle")]
 pub use triangle::{EdgeLanes, PackedTriangle, VertexLanes, VertexTriangle};
 
-use crate::lanes::{Lanes, V3};
+use crate::lanes::{Lanes, MAX_LANES, V3};
 
 /// An axis-aligned box, `lo ≤ hi` componentwise.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -241,9 +241,6 @@ impl<W: Words> Words for Permuted<W> {
         self.words.word(k - k % 3 + self.axes[k % 3])
     }
 }
-
-/// Most lanes any [`Lanes`] type has.
-const MAX_LANES: usize = 16;
 
 /// Primitives one after another, padded to 16 (the most lanes) with zero primitives so that reading
 /// lane `i` needs no bounds check and no branch.

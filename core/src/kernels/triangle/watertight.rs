@@ -42,7 +42,7 @@
 use crate::hit::LanesHit;
 use crate::kernels::triangle::exact::{resolve, LaneQuery};
 use crate::lanes::V3;
-use crate::lanes::{LaneMask, Lanes, Scalar};
+use crate::lanes::{LaneMask, Lanes, Scalar, MAX_LANES};
 use crate::prim::{Permuted, Primitive, VertexLanes, Words};
 use crate::prim::{RayLanes, VertexTriangle};
 
@@ -431,7 +431,11 @@ fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
         let safe_bits = safe.bitmask();
         let untested_bits = max_untested.bitmask();
         let (mut keep, mut exact_t, mut exact_bary) = (0u32, 0u32, 0u32);
-        let (mut te, mut ue, mut ve) = ([0.0f64; 16], [0.0f64; 16], [0.0f64; 16]);
+        let (mut te, mut ue, mut ve) = (
+            [0.0f64; MAX_LANES],
+            [0.0f64; MAX_LANES],
+            [0.0f64; MAX_LANES],
+        );
         while bits != 0 {
             let i = bits.trailing_zeros() as usize;
             bits &= bits - 1;
@@ -478,7 +482,7 @@ fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
             }
         }
         mask = mask | L::mask_from_bits(keep);
-        let from = |x: &[f64; 16]| L::from_fn(|i| L::Scalar::from_f64(x[i % 16]));
+        let from = |x: &[f64; MAX_LANES]| L::from_fn(|i| L::Scalar::from_f64(x[i % MAX_LANES]));
         if exact_t != 0 {
             t = L::select(L::mask_from_bits(exact_t), from(&te), t);
         }
