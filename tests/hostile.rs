@@ -347,3 +347,47 @@ fn a_t_max_whose_scaled_bound_overflows_is_still_tested() {
     let h = intersect::<f32, Watertight>(&open, &tri).expect("hit at t = 1");
     assert!((h.t - 1.0).abs() < 1e-5, "{h:?}");
 }
+
+#[cfg(feature = "sphere")]
+#[test]
+fn a_sphere_whose_discriminant_overflows_is_a_miss_not_a_hit_at_t_0() {
+    // Found by the BVH equality proptest widened to scenes of 1e15: with a direction of 4e14
+    // and r = 8e12, Δ/4 = a·(r² − |l|²) overflowed to +inf, so q = −inf and c/q = 0 came out as
+    // a hit at t = 0 (the exact hit is at t ≈ 1.085, which the f64 tier finds). Both f32 sphere
+    // kernels now call an overflowed Δ/4 or q a miss (documented: |d|·r ≳ 1.8e19), at every
+    // width, as the triangle tiers do with their overflows.
+    use octoray::kernels::{NaiveSphere, StableSphere};
+    use octoray::PackedSphere;
+    use wide::f64x4;
+    let v = Vec3::new;
+    let ray = Ray::new(
+        v(191157100000000.0, 234537280000000.0, -266347920000000.0),
+        v(-255901110000000.0, -235034500000000.0, 213059740000000.0),
+    );
+    let centre = v(-89763625000000.0, -26305173000000.0, -29892054000000.0);
+    let sphere = PackedSphere::new(centre, 8441108000000.0);
+    let f64_lanes = closest::<f64x4, StableSphere>(&RayLanes::load(&[ray]), &[sphere]);
+    let t = f64_lanes.lane(0).expect("the f64 tier hits").t;
+    assert!((t - 1.085205).abs() < 1e-5, "{t}");
+    fn at<L: Lanes, K: Kernel<L, Prim = octoray::PackedSphere>>(
+        ray: &Ray,
+        s: &octoray::PackedSphere,
+    ) -> Option<octoray::Hit> {
+        closest::<L, K>(&RayLanes::load(&[*ray]), &[*s]).lane(0)
+    }
+    for got in [
+        at::<f32, StableSphere>(&ray, &sphere),
+        at::<f32x4, StableSphere>(&ray, &sphere),
+        at::<f32x8, StableSphere>(&ray, &sphere),
+        at::<f32x16, StableSphere>(&ray, &sphere),
+        at::<f32x8, NaiveSphere>(&ray, &sphere),
+        at::<f32x16, NaiveSphere>(&ray, &sphere),
+    ] {
+        assert_eq!(got, None);
+    }
+    // A true hit at this scale is still found where Δ/4 stays finite (|d|·r < 1.8e19).
+    let aimed = Ray::new(ray.origin, (centre - ray.origin) * 1e-9);
+    let h = at::<f32x8, StableSphere>(&aimed, &sphere).expect("aimed at the centre");
+    let want = 1e9 * (1.0 - 8441108000000.0 / (centre - ray.origin).length());
+    assert!((h.t / want - 1.0).abs() < 1e-5, "{h:?}, want {want}");
+}

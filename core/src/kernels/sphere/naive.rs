@@ -7,7 +7,8 @@
 //! - **Not sound far from the sphere**: `c = f·f − r²` and `b² − 4ac` cancel when the distance
 //!   is large compared to the radius, so hit/miss can be wrong for small distant spheres
 //!   (measured in the accuracy report at 1e2…1e6 radii) and the near root cancels in `−b + √Δ`.
-//! - Reported hits always have finite `t ∈ [t_min, t_max]`; bad input is a miss.
+//! - Reported hits always have finite `t ∈ [t_min, t_max]`; bad input is a miss, and so is an
+//!   overflowed `b² − 4ac` or `2a` (`|f|·|d|` or `|d|·r` beyond ~1e19).
 
 use crate::hit::{nearest_root_in_range, LanesHit};
 use crate::lanes::{LaneMask, Lanes};
@@ -31,12 +32,14 @@ pub fn intersect_lanes<L: Lanes>(ray: &RayLanes<L>, sphere: &SphereLanes<L>) -> 
     let b = L::splat(2.0) * f.dot(d);
     let c = f.dot(f) - sphere.radius_sq;
     let disc = b * b - L::splat(4.0) * a * c;
-    let mask = ray.active & a.gt(zero) & a.is_finite() & disc.ge(zero);
+    let two_a = L::splat(2.0) * a;
+    // An overflowed discriminant or 2a makes the roots meaningless (a finite b over an infinite
+    // 2a would give a false hit at t = 0): a miss.
+    let mask = ray.active & a.gt(zero) & two_a.is_finite() & disc.ge(zero) & disc.is_finite();
     if mask.none() {
         return LanesHit::miss(mask);
     }
     let sq = disc.sqrt();
-    let two_a = L::splat(2.0) * a;
     let near = (-b - sq) / two_a;
     let far = (-b + sq) / two_a;
     nearest_root_in_range(ray, mask, near, far)

@@ -15,6 +15,9 @@
 //!   gets 48 % of answers wrong outside that margin at 1e4 r.
 //! - The packed sphere stores r² in f32: for huge radii that rounding moves the surface (by
 //!   0.002 for r = 1e6), for every tier including f64.
+//! - Overflow: where `Δ/4` or `q` overflows (`|d|·r ≳ 1.8e19`, or `|f·d|` near `f32::MAX`:
+//!   unnormalised directions in scenes beyond ~1e10) the test is a miss, never a false hit (the
+//!   f64 tier covers that range).
 //! - Reported hits always have finite `t ∈ [t_min, t_max]`. A radius that is not finite and
 //!   `> 0` (packed as `radius_sq = NaN`), zero or non-finite directions and non-finite inputs
 //!   are misses.
@@ -79,6 +82,9 @@ pub fn intersect_lanes<L: Lanes>(
     // Stable roots: q = −(h + sign(h)·√(Δ/4)) adds like signs; then t = c/q and t = q/a.
     let sq = disc.sqrt();
     let q = -(h + L::select(h.lt(zero), -sq, sq));
+    // Where Δ/4 or q overflowed (|d|·r or |h| near f32::MAX), the roots are meaningless: c/q
+    // would give a false hit at t = 0. A miss instead.
+    let mask = mask & q.is_finite();
     let t0 = c / q;
     let t1 = q * inv_a;
     let ordered = t0.le(t1);
