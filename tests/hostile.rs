@@ -391,3 +391,44 @@ fn a_sphere_whose_discriminant_overflows_is_a_miss_not_a_hit_at_t_0() {
     let want = 1e9 * (1.0 - 8441108000000.0 / (centre - ray.origin).length());
     assert!((h.t / want - 1.0).abs() < 1e-5, "{h:?}, want {want}");
 }
+
+#[test]
+fn a_standard_tier_triangle_below_the_underflow_limit_is_a_miss() {
+    // Found by the BVH equality proptest widened to scenes of 1e-13: a ray aimed at a vertex of a
+    // 2e-15 triangle with a direction of 3e-13. det and the edge numerators (products of three
+    // such values, ~1e-42) were subnormal, the det-noise bound underflowed to 0, and the standard
+    // tier reported a hit at the vertex that the exact oracle says misses (and that no box test
+    // reaches). Below the documented range (|e1|₁·|e2|₁ or |d|₁·|e1|₁·|e2|₁ < 2⁻¹⁰⁰) it is a miss.
+    let v = Vec3::new;
+    let ray = Ray::new(
+        v(1.1278359e-14, 2.5677057e-13, -2.4146066e-13),
+        v(1.1400502e-13, -2.393295e-13, 1.948894e-13),
+    );
+    let (a, b, c) = (
+        v(1.2336036e-13, 1.8192616e-14, -4.4999008e-14),
+        v(1.2542997e-13, 1.5932981e-14, -4.3489307e-14),
+        v(1.2528338e-13, 1.7441074e-14, -4.657126e-14),
+    );
+    let exact = closest::<f32x8, Exact>(&RayLanes::load(&[ray]), &[VertexTriangle::new(a, b, c)]);
+    assert_eq!(exact.lane(0), None, "the exact tier: a miss");
+    assert_eq!(
+        mt_everywhere(&ray, &PackedTriangle::new(a, b, c)),
+        [(false, false); 4]
+    );
+    // The same geometry scaled by 2⁴⁰ (exactly) is inside the range: the answers agree again.
+    let k = 2f32.powi(40);
+    let big = Ray::new(ray.origin * k, ray.dir * k);
+    let (ba, bb, bc) = (a * k, b * k, c * k);
+    let exact =
+        closest::<f32x8, Exact>(&RayLanes::load(&[big]), &[VertexTriangle::new(ba, bb, bc)]);
+    assert_eq!(exact.lane(0), None);
+    assert_eq!(
+        mt_everywhere(&big, &PackedTriangle::new(ba, bb, bc)),
+        [(false, false); 4]
+    );
+    let centre = Ray::new(big.origin, (ba + bb + bc) / 3.0 - big.origin);
+    assert_eq!(
+        mt_everywhere(&centre, &PackedTriangle::new(ba, bb, bc)),
+        [(true, true); 4]
+    );
+}

@@ -64,6 +64,9 @@ pub trait Scalar:
     fn from_f64(x: f64) -> Self;
     /// Unit roundoff `u` (2⁻²⁴ for f32, 2⁻⁵³ for f64): every basic operation's relative error.
     const UNIT_ROUNDOFF: f64;
+    /// The smallest normal value (2⁻¹²⁶ for f32, 2⁻¹⁰²² for f64): below it a product loses its
+    /// relative accuracy (its rounding error becomes absolute, up to half a subnormal step).
+    const MIN_NORMAL: f64;
     /// `a·b − c·d` with the sign exact: for f32 computed in f64 (the products are exact there,
     /// the difference rounds once) and rounded back; for f64 by Kahan's algorithm on `fma`.
     fn diff_of_products_wide(a: Self, b: Self, c: Self, d: Self) -> Self;
@@ -87,6 +90,7 @@ impl Scalar for f32 {
         x as f32
     }
     const UNIT_ROUNDOFF: f64 = 1.0 / 16_777_216.0;
+    const MIN_NORMAL: f64 = f32::MIN_POSITIVE as f64;
     #[inline(always)]
     fn diff_of_products_wide(a: f32, b: f32, c: f32, d: f32) -> f32 {
         (a as f64 * b as f64 - c as f64 * d as f64) as f32
@@ -111,6 +115,7 @@ impl Scalar for f64 {
         x
     }
     const UNIT_ROUNDOFF: f64 = 1.0 / 9_007_199_254_740_992.0;
+    const MIN_NORMAL: f64 = f64::MIN_POSITIVE;
     /// Kahan's algorithm with a correctly rounded `fma` (`libm::fma`, software, so the same bits
     /// on every build): `w = c·d`, `e = c·d − w` exactly, `f = a·b − w` rounded once, then
     /// `f − e`, whose relative error is at most 2u (Jeannerod, Louvet & Muller 2013), so its sign

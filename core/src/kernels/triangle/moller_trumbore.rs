@@ -23,7 +23,9 @@
 //! - Reported hits always have finite `t ∈ [t_min, t_max]`, finite `u, v ≥ 0` with `u + v ≲ 1`.
 //!   Non-finite inputs, zero directions, zero-area triangles (also needles whose packed edges
 //!   are parallel: `|det| ≤ 8ε·|d|₁·|e1|₁·|e2|₁` is a miss), rays in or parallel to the plane
-//!   (within ~1e-6 rad), and products that overflow (coordinates beyond ~1e12) are misses.
+//!   (within ~1e-6 rad), products that overflow (coordinates beyond ~1e12) and products that
+//!   underflow (`|e1|₁·|e2|₁` or `|d|₁·|e1|₁·|e2|₁` below 2⁻¹⁰⁰ at f32, 2⁻⁹⁹⁶ at f64: with
+//!   `|d| = 1`, triangles below ~1e-15) are misses.
 //! - Range of the bounds above: every product of the inputs must stay a normal f32. Where
 //!   `|d|·|v − o| < 1e-30` (a subnormal or tiny direction) the products `s × d` go subnormal and
 //!   `t` loses its relative accuracy (the fuzz harness saw t = 2.0e38 for an exact 4e38 with
@@ -31,7 +33,7 @@
 
 use crate::hit::{t_in_range, LanesHit};
 use crate::lanes::V3;
-use crate::lanes::{LaneMask, Lanes};
+use crate::lanes::{LaneMask, Lanes, Scalar};
 use crate::prim::{EdgeLanes, Primitive};
 use crate::prim::{PackedTriangle, RayLanes};
 
@@ -95,9 +97,17 @@ pub fn intersect_with<L: Lanes, const CULL: bool>(
     // are parallel) or a ray within ~1e-6 rad of the plane. Such lanes are misses (found by the
     // fuzz harness: a "hit" 3e18 away from a degenerate 1e19 needle). Tested last, it is
     // computed only when some lane would otherwise hit.
+    // Below the scalar's normal range the products' rounding errors are absolute, and this
+    // bound means nothing (the BVH equality proptest, widened to scenes of 1e-13, found a "hit"
+    // at a vertex no box test reaches): where `|e1|₁·|e2|₁` or `|d|₁·|e1|₁·|e2|₁` is below
+    // 2²⁶ times the smallest normal value (2⁻¹⁰⁰ for f32), the lane is a miss. With `|d| = 1` that
+    // is the documented underflow limit: triangles below ~1e-15.
     let norm1 = |v: V3<L>| v.x.abs() + v.y.abs() + v.z.abs();
-    let det_noise = L::splat(DET_NOISE) * norm1(ray.dir) * (norm1(e1) * norm1(e2));
-    mask = mask & abs_det.gt(det_noise);
+    let edges = norm1(e1) * norm1(e2);
+    let floor = L::splat_scalar(L::Scalar::from_f64(L::Scalar::MIN_NORMAL * 67_108_864.0));
+    let det_noise = L::splat(DET_NOISE) * norm1(ray.dir) * edges;
+    mask =
+        mask & abs_det.gt(det_noise) & edges.ge(floor) & det_noise.ge(floor * L::splat(DET_NOISE));
     if mask.none() {
         return LanesHit::miss(mask);
     }
