@@ -432,3 +432,44 @@ fn a_standard_tier_triangle_below_the_underflow_limit_is_a_miss() {
         [(true, true); 4]
     );
 }
+
+#[test]
+fn a_watertight_t_0_tie_between_duplicates_goes_to_the_lower_index_through_the_bvh() {
+    // Found by the BVH equality proptest widened to offsets of 1e33: twelve copies of a triangle
+    // whose edge holds the ray's origin (exact t = 0). Their products leave the filter's safe
+    // window, so the watertight tier took t = 0 from its exact stage but still decided t_max on
+    // its rounded t (≈ 1e-8): with t_max lowered to the first copy's hit, the other copies were
+    // cut off, and the BVH's packet walk (which meets the copies in another order) reported a
+    // higher index than brute force. Such lanes now decide t_max exactly on the t they report.
+    use wide::f64x4;
+    let v =
+        |x: u32, y: u32, z: u32| Vec3::new(f32::from_bits(x), f32::from_bits(y), f32::from_bits(z));
+    let tri = VertexTriangle::new(
+        v(1955296992, 1982526956, 1980547929),
+        v(1955296988, 1982526956, 1980547929),
+        v(1955296996, 1982526957, 1980547929),
+    );
+    let ray = Ray::new(
+        v(1955296991, 1982526956, 1980547929),
+        v(3948937216, 3934257152, 3942645760),
+    );
+    let tris = vec![tri; 12];
+    for t_max in [f32::INFINITY, 1.0, 1e-30, 0.0] {
+        let r = Ray::with_range(ray.origin, ray.dir, 0.0, t_max);
+        let h = closest::<f64x4, Watertight>(&RayLanes::load(&[r]), &[tri]).lane(0);
+        assert_eq!(
+            h.map(|h| (h.t, h.u, h.v)),
+            Some((0.0, 0.25, 0.0)),
+            "t_max {t_max}"
+        );
+    }
+    let tree = octoray::bvh::Bvh8::build(&tris);
+    let p = RayLanes::<f64x4>::load(&[ray]);
+    for got in [
+        closest::<f64x4, Watertight>(&p, &tris).lane(0),
+        octoray::bvh::traverse::closest_packet::<f64x4, Watertight>(tree.as_ref(), &p).lane(0),
+        octoray::bvh::traverse::closest_ray::<f64x4, Watertight>(tree.as_ref(), &ray),
+    ] {
+        assert_eq!(got.map(|h| (h.t, h.prim)), Some((0.0, 0)));
+    }
+}

@@ -49,6 +49,10 @@ pub trait Kernel<L: Lanes> {
     /// give it the caller's `t_max` and order its hits by the rounded `t` themselves: lowering
     /// `t_max` to an earlier hit's rounded `t` would cut off a hit whose rounded `t` is nearer
     /// but whose exact `t` is not, and the answer would depend on the order of the tests.
+    ///
+    /// A kernel with `EXACT_T_MAX = false` keeps every hit it reports at `t` for every
+    /// `t_max ≥ t·(1 + 2⁻²⁰) + 2⁻¹²⁶`, with the same `t`, `u`, `v`: the queries and the BVH lower
+    /// `t_max` to that bound of the running best (proptested in `tests/queries.rs`).
     const EXACT_T_MAX: bool = false;
     /// Precomputes what depends on the ray only (not on `t_min`/`t_max`).
     fn prepare(ray: &RayLanes<L>) -> Self::Pre;

@@ -10,19 +10,22 @@
 //! - Bit-identical across `f32` and `f32x4/x8/x16` and across builds (proptested), like the
 //!   standard tier.
 //! - **Range:** a hit is reported iff the edge test passes, the *exact* `t` is `≥ t_min`, and
-//!   the rounded `t` is `≤ t_max`. The `t_min` side is certified without a division (the sign
+//!   the reported `t` is `≤ t_max` (the rounded `t`, or the exact one on the lanes that report
+//!   it, below). The `t_min` side is certified without a division (the sign
 //!   of `N − t_min·D` against its error bound, or every vertex's depth against `t_min`, which
 //!   keeps small distant triangles) and, on the lanes neither certificate decides, decided with
 //!   exact arithmetic ([`crate::kernels::triangle::exact::ExactPlane`], lane by lane, rare): a
 //!   hit just in front of `t_min` is never lost, one just behind is never reported, for every
 //!   finite input (oracle-tested; issue 11's thin-triangle reproducer is `tests/hostile.rs`).
 //!   The `t_max` side compares the rounded `t`, as the standard tier does and as closest-hit
-//!   queries order hits; the exact tier ([`crate::kernels::Exact`]) decides both sides exactly.
+//!   queries order hits, so a hit reported at `t` stays a hit for every `t_max` a little above
+//!   it ([`crate::Kernel::EXACT_T_MAX`]); the exact tier ([`crate::kernels::Exact`]) decides both sides exactly.
 //! - **t error bound:** the same form as the standard tier,
 //!   `|t − t_exact| ≤ 8·ε·max(|t|, reach)/(|cos θ|·sin α)`; measured at most 2.7 (p50 0 ulp, p99 11 ulp on
 //!   random cases). Hits have finite `t ∈ [t_min, t_max]` (the rounded `t` is clamped into the
-//!   range the exact one was found in). Where the kernel's products leave `[2⁻¹⁰⁰, 2¹⁰⁰]`, `t`
-//!   is the exact `t` rounded instead.
+//!   range the exact one was found in). Where the kernel's products leave `[2⁻¹⁰⁰, 2¹⁰⁰]`, or
+//!   the determinant is within its own error bound (rays within ~1e-6 rad of the plane), `t` is
+//!   the exact `t` rounded instead, and `t ≤ t_max` is decided on it exactly.
 //! - Zero escapes over 10⁵ rays aimed at the vertices and edges of closed jittered meshes centred
 //!   at 0…1e6 (`tests/watertight.rs`); in the trade report 0.000 % (report: `watertight, 8
 //!   lanes`, crack rate) escape where the standard tier lets 1.540 % (report: `standard, 8
@@ -360,31 +363,44 @@ fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
 
     let (t_min, t_max) = (ray.t_min, ray.t_max);
     let inf = L::splat(f32::INFINITY);
-    // Watertight lanes whose rounded t_max test meant nothing (N or the bound overflowed): the
-    // exact stage decides t_max for them.
-    let mut max_untested = ray.active & !ray.active;
     if !EXACT {
-        // The watertight tier compares the rounded t with t_max (as the standard tier does, and as
-        // closest-hit queries order hits): far hits leave here, before any bound is computed.
-        // (Where num or the bound overflowed, the rounded test means nothing: those lanes go on
-        // to the exact stage, which decides t_max exactly for lanes outside the safe window.)
-        let at_max = t_max * abs_det;
-        // (t_max = +inf makes the bound +inf legitimately: every finite N passes, as it should.)
-        max_untested = !num.is_finite() | (!at_max.is_finite() & t_max.is_finite());
-        mask = mask & (num.le(at_max) | max_untested);
-        if mask.none() {
-            return (LanesHit::miss(mask), exact_lanes);
-        }
         (de, de_safe) = edge_bound();
     }
-    // Is t in [t_min, t_max]? Two certificates (doc above), both free of divisions: the signs of
-    // N − t_b·D, and (where that leaves lanes open) the depth interval.
     // max |ẑ| = |Sz|·max |a[kz]| exactly: rounding is monotone.
     let max_z = sh.sz.abs() * depth;
     let max_e = max3(u.abs(), v.abs(), w.abs());
     let err_d = L::splat(3.01) * de + ulps::<L>(2.01) * abs_det;
-    let err_n = L::splat(3.01) * max_z * (de + ulps::<L>(6.01) * max_e);
     let room = abs_det - err_d;
+    let me = max_z * max_e;
+    // The filter's window: products normal and finite, and D̂ clear of its error bound. Lanes
+    // outside it take t (and the range) from the exact stage.
+    let safe = de_safe
+        & room.gt(L::splat(0.01) * err_d)
+        & max_z.ge(L::splat(SAFE_MIN))
+        & me.ge(L::splat(SAFE_MIN))
+        & me.le(L::splat(SAFE_MAX));
+    // Watertight lanes whose t_max the exact stage decides: where the rounded test meant
+    // nothing (N or the bound overflowed), and lanes outside the safe window.
+    let mut max_untested = ray.active & !ray.active;
+    if !EXACT {
+        // The watertight tier compares the rounded t with t_max (as the standard tier does, and as
+        // closest-hit queries order hits): far hits leave here, before the range certificates.
+        // Lanes outside the safe window report the exact t, so their t_max is decided exactly
+        // on that same t instead: they skip this test. So a hit reported at `t` stays a hit for
+        // every `t_max` just above `t`, which the queries' and the BVH's cull by the running
+        // best relies on. (Tested here, the rounded t of such a lane, grazing or with extreme
+        // magnitudes, had dropped 11 % of grazing hits once t_max was lowered to their own t.)
+        let at_max = t_max * abs_det;
+        // (t_max = +inf makes the bound +inf legitimately: every finite N passes, as it should.)
+        max_untested = !num.is_finite() | (!at_max.is_finite() & t_max.is_finite());
+        mask = mask & (num.le(at_max) | max_untested | !safe);
+        if mask.none() {
+            return (LanesHit::miss(mask), exact_lanes);
+        }
+    }
+    // Is t in [t_min, t_max]? Two certificates (doc above), both free of divisions: the signs of
+    // N − t_b·D, and (where that leaves lanes open) the depth interval.
+    let err_n = L::splat(3.01) * max_z * (de + ulps::<L>(6.01) * max_e);
     let err_nd = err_d + ulps::<L>(3.01) * abs_det;
     let err_n3 = err_n + ulps::<L>(3.01) * num.abs();
     let slack = |b: L| err_n3 + b.abs() * err_nd;
@@ -408,12 +424,6 @@ fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
         below_max = below_max | ((t_max - z_max) * room).gt(ez);
         above_max = above_max | ((z_min - t_max) * room).gt(ez);
     }
-    let me = max_z * max_e;
-    let safe = de_safe
-        & room.gt(L::splat(0.01) * err_d)
-        & max_z.ge(L::splat(SAFE_MIN))
-        & me.ge(L::splat(SAFE_MIN))
-        & me.le(L::splat(SAFE_MAX));
     let decided = safe & (above_min | below_min) & (below_max | above_max) & !max_untested;
     let in_range = decided & above_min & below_max;
     // Lanes whose range the filter cannot decide: exactly, from the lane's inputs.
