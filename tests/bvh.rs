@@ -1,10 +1,11 @@
 //! The BVH's answers equal brute force, bit for bit: the proof that the tree and its traversal
 //! are right. For every tier and width, on proptest scenes (random soups, clusters, duplicated,
-//! degenerate and zero-area triangles, axis-aligned quads, scales 1e-6…1e6, offsets to 1e6) and
-//! rays (from inside and outside the scene's bounds, axis-parallel with ±0 components, aimed at
-//! vertices and edges, with ranges, and invalid), the single-ray, packet and batch traversals give
-//! the same hit/miss, `t`, `u`, `v` bits and primitive index as `query::closest` over the
-//! slice, and the same occlusion as `query::occluded`.
+//! degenerate and zero-area triangles, axis-aligned quads, scales 1e-6…1e6, offsets to 1e6, and
+//! extreme scenes of 1e-13…1e33) and rays (from inside and outside the scene's bounds,
+//! axis-parallel with ±0 components, aimed at vertices and edges, with ranges, and invalid), the
+//! single-ray, packet and batch traversals give the same hit/miss, `t`, `u`, `v` bits and
+//! primitive index as `query::closest` over the slice, and the same occlusion as
+//! `query::occluded`.
 #![cfg(all(feature = "triangle", feature = "sphere", feature = "alloc"))]
 use octoray_testkit as testkit;
 
@@ -79,14 +80,48 @@ fn check<L: Lanes, K: Kernel<L>>(prims: &[K::Prim], rays: &[Ray]) -> usize {
 }
 
 /// A scene of `n` triangles of one of several kinds, at a random scale and offset.
-fn triangles(rng: &mut Rng) -> (Vec<[Vec3; 3]>, Vec3, f32) {
+/// Scale and offset exponents (base 10) of the scenes.
+#[derive(Clone, Copy)]
+struct Range {
+    scale: (f32, f32),
+    offset: f32,
+}
+
+/// The ordinary range: scales 1e-6…1e6, offsets to 1e6.
+const ORDINARY: Range = Range {
+    scale: (-6.0, 6.0),
+    offset: 6.0,
+};
+
+/// Extreme triangle scenes: scales 1e-13…1e33, offsets to 1e34. Outside the standard tier's
+/// range (its products under- and overflow: a miss) and, at the top, the f32 watertight tier's
+/// (overflow: a miss); the answers must still be equal.
+const EXTREME: Range = Range {
+    scale: (-13.0, 33.0),
+    offset: 34.0,
+};
+
+/// Sphere scenes: scales 1e-5…1e5, offsets to 1e5.
+const ORDINARY_SPHERES: Range = Range {
+    scale: (-5.0, 5.0),
+    offset: 5.0,
+};
+
+/// Extreme sphere scenes: scales 1e-15…1e15 (radii from 1e-18: r² stays a normal f32), where
+/// unnormalised directions overflow the discriminant (a miss).
+const EXTREME_SPHERES: Range = Range {
+    scale: (-15.0, 15.0),
+    offset: 15.0,
+};
+
+fn triangles(rng: &mut Rng, range: Range) -> (Vec<[Vec3; 3]>, Vec3, f32) {
     let kind = rng.next_u64() % 5;
     let n = 1 + (rng.next_u64() % 300) as usize;
-    let s = 10f32.powf(rng.range(-6.0, 6.0));
+    let s = 10f32.powf(rng.range(range.scale.0, range.scale.1));
     let off = if rng.below(2) == 0 {
         Vec3::ZERO
     } else {
-        rng.vec3(1.0) * 10f32.powf(rng.range(0.0, 6.0))
+        rng.vec3(1.0) * 10f32.powf(rng.range(0.0, range.offset))
     };
     let mut tris = Vec::with_capacity(n);
     let centers: Vec<Vec3> = (0..3).map(|_| rng.vec3(s)).collect();
@@ -244,9 +279,9 @@ fn targets(tris: &[[Vec3; 3]], rng: &mut Rng) -> Vec<Vec3> {
         .collect()
 }
 
-fn triangle_scene(seed: u64) {
+fn triangle_scene(seed: u64, range: Range) {
     let mut rng = Rng(seed);
-    let (tris, off, s) = triangles(&mut rng);
+    let (tris, off, s) = triangles(&mut rng, range);
     let tg = targets(&tris, &mut rng);
     let mut rays = rays(&mut rng, &tg, off, s, 96);
     rays.extend(coherent_rays(&mut rng, &tg, off, s, 4));
@@ -269,11 +304,11 @@ fn triangle_scene(seed: u64) {
     check::<f64x4, Watertight>(&verts, &rays);
 }
 
-fn sphere_scene(seed: u64) {
+fn sphere_scene(seed: u64, range: Range) {
     let mut rng = Rng(seed);
     let n = 1 + (rng.next_u64() % 200) as usize;
-    let s = 10f32.powf(rng.range(-5.0, 5.0));
-    let off = rng.vec3(1.0) * 10f32.powf(rng.range(0.0, 5.0));
+    let s = 10f32.powf(rng.range(range.scale.0, range.scale.1));
+    let off = rng.vec3(1.0) * 10f32.powf(rng.range(0.0, range.offset));
     let spheres: Vec<(Vec3, f32)> = (0..n)
         .map(|i| {
             let r = match i % 7 {
@@ -301,12 +336,28 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(48))]
     #[test]
     fn bvh_equals_brute_force_on_triangle_scenes(seed in any::<u64>()) {
-        triangle_scene(seed);
+        triangle_scene(seed, ORDINARY);
     }
 
     #[test]
     fn bvh_equals_brute_force_on_sphere_scenes(seed in any::<u64>()) {
-        sphere_scene(seed);
+        sphere_scene(seed, ORDINARY_SPHERES);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+    // Found three kernel bugs (tests/hostile.rs): a sphere hit at t = 0 from an overflowed
+    // discriminant, a standard-tier hit from subnormal products, and a watertight t_max decided
+    // on a different t than the one reported.
+    #[test]
+    fn bvh_equals_brute_force_on_extreme_triangle_scenes(seed in any::<u64>()) {
+        triangle_scene(seed, EXTREME);
+    }
+
+    #[test]
+    fn bvh_equals_brute_force_on_extreme_sphere_scenes(seed in any::<u64>()) {
+        sphere_scene(seed, EXTREME_SPHERES);
     }
 }
 
@@ -314,7 +365,7 @@ proptest! {
 fn many_hits_are_checked() {
     // The equality is not vacuous: a fixed scene and its rays do hit.
     let mut rng = Rng(7);
-    let (tris, off, s) = triangles(&mut rng);
+    let (tris, off, s) = triangles(&mut rng, ORDINARY);
     let tg = targets(&tris, &mut rng);
     let rays = rays(&mut rng, &tg, off, s, 512);
     let packed: Vec<PackedTriangle> = tris
@@ -455,7 +506,7 @@ fn threaded_build_equals_single_threaded_build() {
 #[test]
 fn build_is_deterministic_and_plain_data() {
     let mut rng = Rng(99);
-    let (tris, ..) = triangles(&mut rng);
+    let (tris, ..) = triangles(&mut rng, ORDINARY);
     let verts: Vec<VertexTriangle> = tris
         .iter()
         .map(|t| VertexTriangle::new(t[0], t[1], t[2]))
@@ -554,7 +605,7 @@ fn batch_length_mismatch_panics() {
 fn regression_zero_area_triangle_scene() {
     // Found by the equality proptest against the (since removed) fast tier, which reported a hit
     // (u = v = 0) on a collinear triangle far from the ray; kept for the remaining tiers.
-    triangle_scene(10981392969920591453);
+    triangle_scene(10981392969920591453, ORDINARY);
 }
 
 proptest! {
