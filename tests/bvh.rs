@@ -85,26 +85,31 @@ fn check<L: Lanes, K: Kernel<L>>(prims: &[K::Prim], rays: &[Ray]) -> usize {
 struct Range {
     scale: (f32, f32),
     offset: f32,
+    /// Rays also get hostile ranges: negative, infinite, NaN and empty `[t_min, t_max]`.
+    hostile_ranges: bool,
 }
 
 /// The ordinary range: scales 1e-6…1e6, offsets to 1e6.
 const ORDINARY: Range = Range {
     scale: (-6.0, 6.0),
     offset: 6.0,
+    hostile_ranges: false,
 };
 
 /// Extreme triangle scenes: scales 1e-13…1e33, offsets to 1e34. Outside the standard tier's
 /// range (its products under- and overflow: a miss) and, at the top, the f32 watertight tier's
-/// (overflow: a miss); the answers must still be equal.
+/// (overflow: a miss); the answers must still be equal. Half the rays get hostile ranges.
 const EXTREME: Range = Range {
     scale: (-13.0, 33.0),
     offset: 34.0,
+    hostile_ranges: true,
 };
 
 /// Sphere scenes: scales 1e-5…1e5, offsets to 1e5.
 const ORDINARY_SPHERES: Range = Range {
     scale: (-5.0, 5.0),
     offset: 5.0,
+    hostile_ranges: false,
 };
 
 /// Extreme sphere scenes: scales 1e-15…1e15 (radii from 1e-18: r² stays a normal f32), where
@@ -112,6 +117,7 @@ const ORDINARY_SPHERES: Range = Range {
 const EXTREME_SPHERES: Range = Range {
     scale: (-15.0, 15.0),
     offset: 15.0,
+    hostile_ranges: true,
 };
 
 fn triangles(rng: &mut Rng, range: Range) -> (Vec<[Vec3; 3]>, Vec3, f32) {
@@ -178,8 +184,9 @@ fn triangles(rng: &mut Rng, range: Range) -> (Vec<[Vec3; 3]>, Vec3, f32) {
 
 /// Rays for a scene at `off` of size `s` aimed at `targets`: coherent groups (one origin) and
 /// incoherent ones, from inside and outside the bounds, axis-parallel, aimed at vertices and
-/// edge points, with random ranges, and a few invalid.
-fn rays(rng: &mut Rng, targets: &[Vec3], off: Vec3, s: f32, n: usize) -> Vec<Ray> {
+/// edge points, with random ranges (with `hostile`, half of them negative, infinite, NaN or
+/// empty), and a few invalid.
+fn rays(rng: &mut Rng, targets: &[Vec3], off: Vec3, s: f32, n: usize, hostile: bool) -> Vec<Ray> {
     let mut out = Vec::with_capacity(n);
     let mut origin = off + rng.vec3(2.0 * s);
     for i in 0..n {
@@ -204,10 +211,24 @@ fn rays(rng: &mut Rng, targets: &[Vec3], off: Vec3, s: f32, n: usize) -> Vec<Ray
         if rng.below(50) == 0 {
             dir = Vec3::new(f32::NAN, 1.0, 0.0);
         }
-        let (t_min, t_max) = match rng.next_u64() % 5 {
-            0 => (rng.range(0.0, 0.5), rng.range(0.5, 2.0)),
-            1 => (0.0, 1.0),
-            _ => (0.0, f32::INFINITY),
+        let (t_min, t_max) = if hostile && rng.below(2) == 0 {
+            match rng.next_u64() % 9 {
+                0 => (rng.range(-2.0, 0.5), rng.range(-0.5, 2.0)),
+                1 => (f32::NEG_INFINITY, rng.range(-1.0, 2.0)),
+                2 => (rng.range(-3.0, 3.0), f32::NAN),
+                3 => (f32::NAN, rng.range(-1.0, 2.0)),
+                4 => (rng.range(0.0, 1.0), rng.range(0.0, 1.0)),
+                5 => (-0.0, 0.0),
+                6 => (f32::NEG_INFINITY, f32::INFINITY),
+                7 => (f32::INFINITY, f32::INFINITY),
+                _ => (-1e30, 1e30),
+            }
+        } else {
+            match rng.next_u64() % 5 {
+                0 => (rng.range(0.0, 0.5), rng.range(0.5, 2.0)),
+                1 => (0.0, 1.0),
+                _ => (0.0, f32::INFINITY),
+            }
         };
         out.push(Ray::with_range(origin, dir, t_min, t_max));
     }
@@ -283,7 +304,7 @@ fn triangle_scene(seed: u64, range: Range) {
     let mut rng = Rng(seed);
     let (tris, off, s) = triangles(&mut rng, range);
     let tg = targets(&tris, &mut rng);
-    let mut rays = rays(&mut rng, &tg, off, s, 96);
+    let mut rays = rays(&mut rng, &tg, off, s, 96, range.hostile_ranges);
     rays.extend(coherent_rays(&mut rng, &tg, off, s, 4));
     let packed: Vec<PackedTriangle> = tris
         .iter()
@@ -320,7 +341,7 @@ fn sphere_scene(seed: u64, range: Range) {
         })
         .collect();
     let tg: Vec<Vec3> = spheres.iter().map(|c| c.0).collect();
-    let mut rays = rays(&mut rng, &tg, off, s, 96);
+    let mut rays = rays(&mut rng, &tg, off, s, 96, range.hostile_ranges);
     rays.extend(coherent_rays(&mut rng, &tg, off, s, 4));
     let packed: Vec<PackedSphere> = spheres
         .iter()
@@ -367,7 +388,7 @@ fn many_hits_are_checked() {
     let mut rng = Rng(7);
     let (tris, off, s) = triangles(&mut rng, ORDINARY);
     let tg = targets(&tris, &mut rng);
-    let rays = rays(&mut rng, &tg, off, s, 512);
+    let rays = rays(&mut rng, &tg, off, s, 512, false);
     let packed: Vec<PackedTriangle> = tris
         .iter()
         .map(|t| PackedTriangle::new(t[0], t[1], t[2]))

@@ -40,6 +40,11 @@
 //! - Closest-hit queries give the exact tier the caller's `t_max` ([`crate::Kernel::EXACT_T_MAX`])
 //!   and order its hits by the rounded `t`: two hits whose exact `t` differ by less than their
 //!   rounding may come back in either order, and the tie rule picks the lower index.
+//! - Since `t ≤ t_max` is decided on the exact `t` and a filter lane reports the watertight
+//!   tier's rounded `t`, a hit reported at `t` can be a miss for a `t_max` just above `t` (the
+//!   exact `t` lies within the `t` bound above of the reported one; on grazing rays, a quarter
+//!   of hits in `tests/queries.rs`'s family). A ray that must reach a reported hit point takes
+//!   `t_max` beyond `t` by that bound, or the watertight tier, which keeps such hits.
 //!
 //! # The predicates
 //! With `a, b, c` the vertices relative to the origin, the line `o + t·d` meets the plane at
