@@ -25,6 +25,7 @@ use octoray::{Hit, PackedSphere, PackedTriangle, Ray, VertexTriangle};
 use octoray::{LaneMask, Lanes, RayLanes, Scalar};
 use proptest::prelude::*;
 use testkit::mesh::crack_suite_with;
+use testkit::strategies::{pack_triangles, pack_vertex_triangles};
 use testkit::Rng;
 use wide::f64x4;
 
@@ -306,14 +307,7 @@ fn triangle_scene(seed: u64, range: Range) {
     let tg = targets(&tris, &mut rng);
     let mut rays = rays(&mut rng, &tg, off, s, 96, range.hostile_ranges);
     rays.extend(coherent_rays(&mut rng, &tg, off, s, 4));
-    let packed: Vec<PackedTriangle> = tris
-        .iter()
-        .map(|t| PackedTriangle::new(t[0], t[1], t[2]))
-        .collect();
-    let verts: Vec<VertexTriangle> = tris
-        .iter()
-        .map(|t| VertexTriangle::new(t[0], t[1], t[2]))
-        .collect();
+    let (packed, verts) = (pack_triangles(&tris), pack_vertex_triangles(&tris));
     check::<f32x8, MollerTrumbore>(&packed, &rays);
     check::<f32x16, MollerTrumbore>(&packed, &rays);
     check::<f32x4, MollerTrumboreCulled>(&packed, &rays);
@@ -389,11 +383,7 @@ fn many_hits_are_checked() {
     let (tris, off, s) = triangles(&mut rng, ORDINARY);
     let tg = targets(&tris, &mut rng);
     let rays = rays(&mut rng, &tg, off, s, 512, false);
-    let packed: Vec<PackedTriangle> = tris
-        .iter()
-        .map(|t| PackedTriangle::new(t[0], t[1], t[2]))
-        .collect();
-    let hits = check::<f32x8, MollerTrumbore>(&packed, &rays);
+    let hits = check::<f32x8, MollerTrumbore>(&pack_triangles(&tris), &rays);
     assert!(hits > 100, "only {hits} hits of 512 rays");
 }
 

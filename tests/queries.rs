@@ -15,6 +15,7 @@ use octoray::Shade;
 use octoray::{LaneMask, Lanes, RayLanes, Scalar};
 use octoray::{PackedSphere, PackedTriangle, Ray, VertexTriangle};
 use proptest::prelude::*;
+use testkit::strategies::{pack_triangles, pack_vertex_triangles};
 use testkit::Rng;
 use wide::f64x4;
 
@@ -58,14 +59,7 @@ fn kinds_agree<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim]) {
 #[test]
 fn every_query_kind_agrees_with_closest_hit() {
     let (rays, tris) = scene(1);
-    let packed: Vec<PackedTriangle> = tris
-        .iter()
-        .map(|t| PackedTriangle::new(t[0], t[1], t[2]))
-        .collect();
-    let verts: Vec<VertexTriangle> = tris
-        .iter()
-        .map(|t| VertexTriangle::new(t[0], t[1], t[2]))
-        .collect();
+    let (packed, verts) = (pack_triangles(&tris), pack_vertex_triangles(&tris));
     let spheres: Vec<PackedSphere> = tris.iter().map(|t| PackedSphere::new(t[0], 0.3)).collect();
     kinds_agree::<f32, MollerTrumbore>(&rays, &packed);
     kinds_agree::<f32x8, MollerTrumbore>(&rays, &packed);

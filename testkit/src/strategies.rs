@@ -1,7 +1,7 @@
 //! proptest generators: random and adversarial rays, triangles and spheres.
 
 use octoray::glam::Vec3;
-use octoray::{PackedSphere, PackedTriangle, Ray};
+use octoray::{PackedSphere, PackedTriangle, Ray, VertexTriangle};
 use proptest::prelude::*;
 
 /// A float from a mix that includes what breaks kernels: normal range mostly, then huge,
@@ -202,6 +202,13 @@ pub fn aim_at_sphere(spec: &(Vec3, usize, SphereAim, (f32, f32)), spheres: &[(Ve
 pub fn pack_triangles(tris: &[[Vec3; 3]]) -> Vec<PackedTriangle> {
     tris.iter()
         .map(|t| PackedTriangle::new(t[0], t[1], t[2]))
+        .collect()
+}
+
+/// The same triangles in the vertex layout (the watertight and exact tiers').
+pub fn pack_vertex_triangles(tris: &[[Vec3; 3]]) -> Vec<VertexTriangle> {
+    tris.iter()
+        .map(|t| VertexTriangle::new(t[0], t[1], t[2]))
         .collect()
 }
 
