@@ -249,33 +249,23 @@ pub struct LaneQuery {
 /// non-finite input). First in f64 with certified error bounds (a few dozen flops; decides all but
 /// exact ties), then, where f64 cannot decide, with [`ExactPlane`].
 pub fn resolve(q: &LaneQuery) -> Option<Resolved> {
-    let LaneQuery {
-        o,
-        d,
-        v,
-        t_min,
-        t_max,
-        edges,
-        cull,
-        check_max,
-    } = *q;
-    if t_min.is_nan() || t_max.is_nan() {
+    if q.t_min.is_nan() || q.t_max.is_nan() {
         return None;
     }
     if let Some(answer) = resolve_f64(q) {
         return answer;
     }
-    let plane = ExactPlane::new(o, d, v)?;
-    if plane.parallel() || edges && !(plane.inside() && (!cull || plane.front())) {
+    let plane = ExactPlane::new(q.o, q.d, q.v)?;
+    if plane.parallel() || q.edges && !(plane.inside() && (!q.cull || plane.front())) {
         return None;
     }
     let ge_min = matches!(
-        plane.t_cmp_f64(t_min),
+        plane.t_cmp_f64(q.t_min),
         Some(Ordering::Greater | Ordering::Equal)
     );
-    let le_max = !check_max
+    let le_max = !q.check_max
         || matches!(
-            plane.t_cmp_f64(t_max),
+            plane.t_cmp_f64(q.t_max),
             Some(Ordering::Less | Ordering::Equal)
         );
     if !(ge_min && le_max) {
