@@ -95,13 +95,13 @@ pub fn intersect_with<L: Lanes, const CULL: bool>(
     // det is rounding noise when it is below its own error bound, ≲ 3ε·|d|·|e1|·|e2| (L1 norms,
     // the cancellation in e1 × e2 included): a zero-area triangle (a needle whose packed edges
     // are parallel) or a ray within ~1e-6 rad of the plane. Such lanes are misses (found by the
-    // fuzz harness: a "hit" 3e18 away from a degenerate 1e19 needle). Tested last, it is
-    // computed only when some lane would otherwise hit.
-    // Below the scalar's normal range the products' rounding errors are absolute, and this
-    // bound means nothing (the BVH equality proptest, widened to scenes of 1e-13, found a "hit"
-    // at a vertex no box test reaches): where `|e1|₁·|e2|₁` or `|d|₁·|e1|₁·|e2|₁` is below
-    // 2²⁶ times the smallest normal value (2⁻¹⁰⁰ for f32), the lane is a miss. With `|d| = 1` that
-    // is the documented underflow limit: triangles below ~1e-15.
+    // fuzz harness: a "hit" 3e18 away from a degenerate 1e19 needle). Below the scalar's
+    // normal range the products' rounding errors are absolute and this bound means nothing
+    // (the BVH equality proptest, widened to scenes of 1e-13, found a "hit" at a vertex no box
+    // test reaches): where `|e1|₁·|e2|₁` or `|d|₁·|e1|₁·|e2|₁` is below 2²⁶ times the smallest
+    // normal value (2⁻¹⁰⁰ for f32), the lane is a miss; with `|d| = 1` that is the documented
+    // underflow limit, triangles below ~1e-15. Tested last, all of it is computed only when some
+    // lane would otherwise hit.
     let norm1 = |v: V3<L>| v.x.abs() + v.y.abs() + v.z.abs();
     let edges = norm1(e1) * norm1(e2);
     let floor = L::splat_scalar(L::Scalar::from_f64(L::Scalar::MIN_NORMAL * 67_108_864.0));

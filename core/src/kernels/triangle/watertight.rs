@@ -11,15 +11,16 @@
 //!   standard tier.
 //! - **Range:** a hit is reported iff the edge test passes, the *exact* `t` is `≥ t_min`, and
 //!   the reported `t` is `≤ t_max` (the rounded `t`, or the exact one on the lanes that report
-//!   it, below). The `t_min` side is certified without a division (the sign
-//!   of `N − t_min·D` against its error bound, or every vertex's depth against `t_min`, which
-//!   keeps small distant triangles) and, on the lanes neither certificate decides, decided with
+//!   it, below). The `t_min` side is certified without a division (the sign of `N − t_min·D`
+//!   against its error bound, or every vertex's depth against `t_min`, which keeps small
+//!   distant triangles) and, on the lanes neither certificate decides, decided with
 //!   exact arithmetic ([`crate::kernels::triangle::exact::ExactPlane`], lane by lane, rare): a
 //!   hit just in front of `t_min` is never lost, one just behind is never reported, for every
 //!   finite input (oracle-tested; issue 11's thin-triangle reproducer is `tests/hostile.rs`).
 //!   The `t_max` side compares the rounded `t`, as the standard tier does and as closest-hit
 //!   queries order hits, so a hit reported at `t` stays a hit for every `t_max` a little above
-//!   it ([`crate::Kernel::EXACT_T_MAX`]); the exact tier ([`crate::kernels::Exact`]) decides both sides exactly.
+//!   it ([`crate::Kernel::EXACT_T_MAX`]); the exact tier ([`crate::kernels::Exact`]) decides
+//!   both sides exactly.
 //! - **t error bound:** the same form as the standard tier,
 //!   `|t − t_exact| ≤ 8·ε·max(|t|, reach)/(|cos θ|·sin α)`; measured at most 2.7 (p50 0 ulp, p99 11 ulp on
 //!   random cases). Hits have finite `t ∈ [t_min, t_max]` (the rounded `t` is clamped into the
@@ -388,8 +389,8 @@ fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
         // Lanes outside the safe window report the exact t, so their t_max is decided exactly
         // on that same t instead: they skip this test. So a hit reported at `t` stays a hit for
         // every `t_max` just above `t`, which the queries' and the BVH's cull by the running
-        // best relies on. (Tested here, the rounded t of such a lane, grazing or with extreme
-        // magnitudes, had dropped 11 % of grazing hits once t_max was lowered to their own t.)
+        // best relies on. (Deciding those lanes here, on their rounded t, had dropped 11 % of
+        // grazing hits once t_max was lowered to their own reported t.)
         let at_max = t_max * abs_det;
         // (t_max = +inf makes the bound +inf legitimately: every finite N passes, as it should.)
         max_untested = !num.is_finite() | (!at_max.is_finite() & t_max.is_finite());
