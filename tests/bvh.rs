@@ -36,7 +36,10 @@ fn bits(h: Option<Hit>) -> Option<(u32, u32, u32, u32)> {
 /// Checks every traversal against brute force on `rays`; returns the number of hits.
 fn check<L: Lanes, K: Kernel<L>>(prims: &[K::Prim], rays: &[Ray]) -> usize {
     let tree = Bvh8::build(prims);
-    let bvh = tree.as_ref();
+    // Every built tree passes the validation of untrusted slices, and traverses the same from it.
+    let bvh = Bvh8Ref::<K::Prim>::new(tree.nodes(), tree.blocks(), tree.ids(), prims.len())
+        .expect("a built tree validates");
+    assert_eq!(bvh.prims(), prims.len());
     let mut batch = vec![None; rays.len()];
     closest::<L, K>(bvh, rays, &mut batch);
     let mut occ = vec![false; rays.len()];
@@ -532,7 +535,8 @@ fn build_is_deterministic_and_plain_data() {
     // Written out as bytes and read back as borrowed slices, it traverses the same.
     let nodes: Vec<Bvh8Node> = bytemuck::pod_collect_to_vec(bytes);
     let blocks: Vec<[f32; BLOCK]> = bytemuck::pod_collect_to_vec(block_bytes);
-    let r = Bvh8Ref::<VertexTriangle>::new(&nodes, &blocks, a.ids()).expect("valid tree");
+    let r =
+        Bvh8Ref::<VertexTriangle>::new(&nodes, &blocks, a.ids(), verts.len()).expect("valid tree");
     let ray = Ray::new(Vec3::new(0.0, 0.0, -1e7), Vec3::Z);
     assert_eq!(
         bits(closest_ray::<f32x8, Watertight>(r, &ray)),
@@ -551,19 +555,19 @@ fn bad_trees_are_rejected_not_traversed() {
     let mut n = Bvh8Node::EMPTY;
     n.child[0] = 0; // an inner node pointing at itself: a cycle
     assert_eq!(
-        R::new(&[n], &blocks, &ids).unwrap_err(),
+        R::new(&[n], &blocks, &ids, 1).unwrap_err(),
         BvhError::BadNodeRef { node: 0 }
     );
     n.child[0] = 0;
     n.count[0] = BLOCK as u32 + 1; // a leaf past the blocks
     assert_eq!(
-        R::new(&[n], &blocks, &ids).unwrap_err(),
+        R::new(&[n], &blocks, &ids, 1).unwrap_err(),
         BvhError::BadLeaf { node: 0 }
     );
     n.child[0] = 1; // a leaf not starting a block
     n.count[0] = 1;
     assert_eq!(
-        R::new(&[n], &blocks, &ids).unwrap_err(),
+        R::new(&[n], &blocks, &ids, 1).unwrap_err(),
         BvhError::BadLeaf { node: 0 }
     );
     n.child[0] = 0;
@@ -571,25 +575,25 @@ fn bad_trees_are_rejected_not_traversed() {
         (n.lo[a][0], n.hi[a][0]) = (-1.0, 2.0);
     }
     let one = [n];
-    let r = R::new(&one, &blocks, &ids).expect("a one-leaf tree");
+    let r = R::new(&one, &blocks, &ids, 1).expect("a one-leaf tree");
     let ray = Ray::new(Vec3::new(0.25, 0.25, -1.0), Vec3::Z);
     assert_eq!(
         closest_ray::<f32x8, Watertight>(r, &ray).map(|h| h.prim),
         Some(0)
     );
     assert_eq!(
-        R::new(&[n], &blocks, &[]).unwrap_err(),
+        R::new(&[n], &blocks, &[], 1).unwrap_err(),
         BvhError::LengthMismatch { blocks: 9, ids: 0 }
     );
     assert_eq!(
-        R::new(&[n], &blocks[..8], &ids).unwrap_err(),
+        R::new(&[n], &blocks[..8], &ids, 1).unwrap_err(),
         BvhError::LengthMismatch {
             blocks: 8,
             ids: BLOCK
         }
     );
     assert_eq!(
-        R::new(&[n], &blocks, &ids[..1]).unwrap_err(),
+        R::new(&[n], &blocks, &ids[..1], 1).unwrap_err(),
         BvhError::LengthMismatch { blocks: 9, ids: 1 }
     );
     // A chain deeper than MAX_DEPTH.
@@ -600,7 +604,10 @@ fn bad_trees_are_rejected_not_traversed() {
             n
         })
         .collect();
-    assert_eq!(R::new(&deep, &blocks, &ids).unwrap_err(), BvhError::TooDeep);
+    assert_eq!(
+        R::new(&deep, &blocks, &ids, 1).unwrap_err(),
+        BvhError::TooDeep
+    );
 }
 
 #[test]

@@ -473,3 +473,192 @@ fn a_watertight_t_0_tie_between_duplicates_goes_to_the_lower_index_through_the_b
         assert_eq!(got.map(|h| (h.t, h.prim)), Some((0.0, 0)));
     }
 }
+
+/// Untrusted trees: validation in linear time, every accepted tree a tree.
+#[cfg(feature = "alloc")]
+mod untrusted_trees {
+    use octoray::bvh::traverse::{closest_packet, closest_ray, occluded_ray};
+    use octoray::bvh::{Bvh8, Bvh8Ref, BvhError, MAX_DEPTH, PAD};
+    use octoray::glam::Vec3;
+    use octoray::kernels::Watertight;
+    use octoray::packet::f32x8;
+    use octoray::{Ray, RayLanes, VertexTriangle};
+    use octoray_testkit::trees::{
+        chain, shared_chain, take_leaf_tests, triangles, Counting, Slices,
+    };
+    use octoray_testkit::Rng;
+
+    fn validate(t: &Slices) -> Result<Bvh8Ref<'_, VertexTriangle>, BvhError> {
+        Bvh8Ref::new(&t.nodes, &t.blocks, &t.ids, t.prims)
+    }
+
+    #[test]
+    fn a_shared_subtree_is_rejected_before_it_is_walked() {
+        // Node i's slots 0 and 1 both named node i + 1: validation and every query walked 2ⁿ
+        // paths (24 nodes took 34 ms to validate and 0.84 s per ray; 64 nodes did not return).
+        // Now the second slot naming a node already numbered is an error, whatever the depth.
+        for n in [2, 16, 24, 64] {
+            let t = shared_chain(n);
+            assert_eq!(
+                validate(&t).unwrap_err(),
+                BvhError::BadNodeRef { node: 0 },
+                "{n} nodes"
+            );
+        }
+        // The same nodes with every slot on one node.
+        let mut t = shared_chain(8);
+        for s in 0..8 {
+            (t.nodes[0].child[s], t.nodes[0].count[s]) = (1, 0);
+        }
+        assert_eq!(validate(&t).unwrap_err(), BvhError::BadNodeRef { node: 0 });
+    }
+
+    #[test]
+    fn a_chain_to_the_depth_limit_validates_and_one_past_it_does_not() {
+        let ray = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
+        let t = chain(MAX_DEPTH);
+        let bvh = validate(&t).expect("MAX_DEPTH nodes deep");
+        assert_eq!(
+            closest_ray::<f32x8, Watertight>(bvh, &ray).map(|h| h.prim),
+            Some(0)
+        );
+        assert!(occluded_ray::<f32x8, Watertight>(bvh, &ray));
+        assert_eq!(
+            validate(&chain(MAX_DEPTH + 1)).unwrap_err(),
+            BvhError::TooDeep
+        );
+    }
+
+    #[test]
+    fn nodes_out_of_build_order_or_unreached_are_rejected() {
+        let tris = triangles(&mut Rng(7), 300);
+        let tree = Bvh8::build(&tris);
+        let ok = Slices::of(&tree, tris.len());
+        assert!(validate(&ok).is_ok());
+        assert!(ok.nodes.len() > 3, "{} nodes", ok.nodes.len());
+        // Two nodes swapped: still a tree, but its nodes or leaves are out of build order.
+        let mut t = ok.clone();
+        t.nodes.swap(1, 2);
+        assert!(
+            matches!(
+                validate(&t),
+                Err(BvhError::BadNodeRef { .. } | BvhError::BadLeaf { .. })
+            ),
+            "{:?}",
+            validate(&t).err()
+        );
+        // A node more than the tree reaches.
+        let mut t = ok.clone();
+        t.nodes.push(octoray::bvh::Bvh8Node::EMPTY);
+        assert_eq!(
+            validate(&t).unwrap_err(),
+            BvhError::Unreachable {
+                node: ok.nodes.len()
+            }
+        );
+        // A block no leaf holds.
+        let mut t = ok.clone();
+        t.ids.extend([PAD; 8]);
+        t.blocks.extend(vec![[0.0; 8]; 9]);
+        assert_eq!(
+            validate(&t).unwrap_err(),
+            BvhError::UnusedBlocks { slot: ok.ids.len() }
+        );
+    }
+
+    #[test]
+    fn a_leaf_holding_pad_or_an_index_past_the_callers_slice_is_rejected() {
+        // A one-triangle tree with ids[0] = PAD was accepted and closest_ray reported
+        // prim 4294967295; an index past the caller's slice made the caller's own lookup panic.
+        let mut t = chain(1);
+        assert!(validate(&t).is_ok());
+        t.ids[0] = PAD;
+        assert_eq!(validate(&t).unwrap_err(), BvhError::BadIndex { slot: 0 });
+        t.ids[0] = 1; // the caller has one primitive
+        assert_eq!(validate(&t).unwrap_err(), BvhError::BadIndex { slot: 0 });
+        t.prims = 2;
+        let bvh = validate(&t).expect("index 1 of 2");
+        let ray = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
+        assert_eq!(
+            closest_ray::<f32x8, Watertight>(bvh, &ray).map(|h| h.prim),
+            Some(1)
+        );
+        // A padding slot that is not PAD.
+        t.ids[3] = 0;
+        assert_eq!(validate(&t).unwrap_err(), BvhError::BadIndex { slot: 3 });
+    }
+
+    #[test]
+    fn a_query_on_a_validated_tree_tests_each_leaf_block_at_most_once() {
+        let tris = triangles(&mut Rng(11), 2000);
+        let tree = Bvh8::build(&tris);
+        let t = Slices::of(&tree, tris.len());
+        let bvh = validate(&t).unwrap();
+        let blocks = t.slots() / 8;
+        let mut rng = Rng(12);
+        for _ in 0..64 {
+            let o = rng.vec3(3.0);
+            let rays: Vec<Ray> = (0..8).map(|_| Ray::new(o, rng.vec3(1.0) - o)).collect();
+            take_leaf_tests();
+            let _ = closest_ray::<f32x8, Counting>(bvh, &rays[0]);
+            let single = take_leaf_tests();
+            assert!(single <= blocks, "{single} leaf tests over {blocks} blocks");
+            let _ = closest_packet::<f32x8, Counting>(bvh, &RayLanes::load(&rays));
+            let packet = take_leaf_tests();
+            assert!(
+                packet <= t.slots() + 8 * blocks,
+                "{packet} leaf tests over {} slots",
+                t.slots()
+            );
+        }
+    }
+}
+
+#[test]
+fn a_triangle_with_a_nan_vertex_has_no_box_and_is_counted_as_skipped() {
+    // min/max drop NaN: the box was finite and the build counted the triangle as a primitive.
+    use octoray::prim::Primitive;
+    let tri = VertexTriangle::new(Vec3::new(f32::NAN, 0.0, 0.0), Vec3::X, Vec3::Y);
+    assert_eq!(tri.bounds(), None);
+    let tri = VertexTriangle::new(Vec3::ZERO, Vec3::new(1.0, f32::NAN, 0.0), Vec3::Y);
+    assert_eq!(tri.bounds(), None);
+    #[cfg(feature = "alloc")]
+    {
+        let good = VertexTriangle::new(Vec3::ZERO, Vec3::X, Vec3::Y);
+        let s = octoray::bvh::Bvh8::build(&[tri, good]).stats();
+        assert_eq!((s.prims, s.skipped), (1, 1));
+    }
+}
+
+#[cfg(feature = "alloc")]
+#[test]
+fn a_batch_length_mismatch_points_at_the_callers_line() {
+    // The scene batch calls panicked inside traverse.rs; now the panic names the caller's line.
+    use std::sync::Mutex;
+    static AT: Mutex<Option<String>> = Mutex::new(None);
+    let tris = [VertexTriangle::new(Vec3::ZERO, Vec3::X, Vec3::Y)];
+    let tree = octoray::bvh::Bvh8::build(&tris);
+    let rays = [Ray::new(Vec3::ZERO, Vec3::Z); 2];
+    let hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|info| {
+        *AT.lock().unwrap() = info.location().map(|l| l.file().to_string());
+    }));
+    let closest = std::panic::catch_unwind(|| {
+        let mut out = [None; 1];
+        octoray::packet::scene::closest::<f32x8, Watertight>(tree.as_ref(), &rays, &mut out)
+    });
+    let closest_at = AT.lock().unwrap().take();
+    let occluded = std::panic::catch_unwind(|| {
+        let mut out = [false; 3];
+        octoray::packet::scene::occluded::<f32x8, Watertight>(tree.as_ref(), &rays, &mut out)
+    });
+    let occluded_at = AT.lock().unwrap().take();
+    std::panic::set_hook(hook);
+    assert!(closest.is_err() && occluded.is_err());
+    for at in [closest_at, occluded_at] {
+        assert!(
+            at.as_deref().is_some_and(|f| f.ends_with("hostile.rs")),
+            "{at:?}"
+        );
+    }
+}

@@ -11,6 +11,7 @@ pub mod icosphere;
 pub mod mesh;
 pub mod oracle;
 pub mod strategies;
+pub mod trees;
 
 use octoray::glam::Vec3;
 use octoray::{Ray, Sphere, VertexTriangle};

@@ -28,7 +28,7 @@ pub extern "C" fn octoray_nostd_probe(x: f32) -> u32 {
 }
 
 /// BVH traversal from borrowed slices with neither `std` nor `alloc`: a tree built on a host and
-/// handed over as bytes (here a one-leaf tree made by hand) is validated and traversed, single
+/// handed over as bytes (here a one-leaf tree of one triangle made by hand) is validated and traversed, single
 /// ray and packet. Returns the hit index, or u32::MAX for a miss or an invalid tree.
 #[no_mangle]
 pub extern "C" fn octoray_nostd_bvh_probe(
@@ -37,7 +37,7 @@ pub extern "C" fn octoray_nostd_bvh_probe(
     ids: &[u32; BLOCK],
     x: f32,
 ) -> u32 {
-    let Ok(bvh) = Bvh8Ref::<VertexTriangle>::new(nodes, blocks, ids) else {
+    let Ok(bvh) = Bvh8Ref::<VertexTriangle>::new(nodes, blocks, ids, 1) else {
         return u32::MAX;
     };
     let ray = Ray::new(Vec3::new(x, 0.25, -1.0), Vec3::new(0.0, 0.0, 1.0));

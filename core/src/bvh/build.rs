@@ -43,6 +43,8 @@ pub struct Bvh8<P> {
     nodes: Vec<Bvh8Node>,
     blocks: Vec<[f32; BLOCK]>,
     ids: Vec<u32>,
+    /// Length of the slice the tree was built from.
+    prims: usize,
     stats: BuildStats,
     _prim: core::marker::PhantomData<P>,
 }
@@ -254,6 +256,7 @@ impl<P: Primitive> Bvh8<P> {
             nodes,
             blocks,
             ids,
+            prims: prims.len(),
             stats,
             _prim: core::marker::PhantomData,
         })
@@ -265,6 +268,7 @@ impl<P: Primitive> Bvh8<P> {
             nodes: &self.nodes,
             blocks: &self.blocks,
             ids: &self.ids,
+            prims: self.prims,
             _prim: core::marker::PhantomData,
         }
     }

@@ -111,15 +111,32 @@ pub enum BvhError {
         /// Indices.
         ids: usize,
     },
-    /// A slot refers to a node that does not exist or does not come after its parent.
+    /// A slot refers to a node other than the next one in build order (a node named twice, a
+    /// cycle, a node out of order or out of range), or a used slot follows an empty one.
     BadNodeRef {
         /// The node holding the slot.
         node: usize,
     },
-    /// A leaf's primitive range lies outside the blocks or does not start a block.
+    /// A leaf's primitive range is not the next one in build order, or lies outside the blocks.
     BadLeaf {
         /// The node holding the slot.
         node: usize,
+    },
+    /// A leaf holds [`PAD`] or an index not below the caller's primitive count, or a padding slot
+    /// holds anything but [`PAD`].
+    BadIndex {
+        /// The block slot.
+        slot: usize,
+    },
+    /// A node that no slot reaches.
+    Unreachable {
+        /// The first such node.
+        node: usize,
+    },
+    /// Block slots that no leaf holds.
+    UnusedBlocks {
+        /// The first such slot.
+        slot: usize,
     },
     /// Deeper than [`MAX_DEPTH`].
     TooDeep,
@@ -135,8 +152,16 @@ impl core::fmt::Display for BvhError {
             }
             BvhError::BadNodeRef { node } => write!(f, "node {node} refers to a bad child node"),
             BvhError::BadLeaf { node } => {
-                write!(f, "node {node} has a leaf outside the primitives")
+                write!(
+                    f,
+                    "node {node} has a leaf outside the primitives or out of order"
+                )
             }
+            BvhError::BadIndex { slot } => {
+                write!(f, "block slot {slot} holds a bad primitive index")
+            }
+            BvhError::Unreachable { node } => write!(f, "no slot refers to node {node}"),
+            BvhError::UnusedBlocks { slot } => write!(f, "no leaf holds block slot {slot}"),
             BvhError::TooDeep => write!(f, "tree deeper than {MAX_DEPTH}"),
             BvhError::TooManyPrims(n) => {
                 write!(f, "{n} primitives; a tree holds at most {MAX_PRIMS}")
@@ -153,6 +178,7 @@ pub struct Bvh8Ref<'a, P> {
     nodes: &'a [Bvh8Node],
     blocks: &'a [[f32; BLOCK]],
     ids: &'a [u32],
+    prims: usize,
     _prim: core::marker::PhantomData<P>,
 }
 
@@ -164,18 +190,30 @@ impl<P> Clone for Bvh8Ref<'_, P> {
 impl<P> Copy for Bvh8Ref<'_, P> {}
 
 impl<'a, P: Primitive> Bvh8Ref<'a, P> {
-    /// Validates and wraps a tree's slices: `nodes[0]` is the root (an empty node slice is an
-    /// empty scene); `blocks` the primitives in leaf order, in SoA blocks of [`BLOCK`]: block
-    /// slot `k` is primitive `k % BLOCK` of block `k / BLOCK`, whose rows are
-    /// `blocks[(k / BLOCK)·WORDS ..][..WORDS]` (row `w` holds word `w` of the block's primitives,
-    /// [`Primitive::write_block`]); `ids[k]` the caller's index of slot `k` ([`PAD`] on a leaf's
-    /// padding). Every slot is checked (child nodes after their parent, leaves starting a block
-    /// and inside the blocks, depth ≤ [`MAX_DEPTH`]), so traversal of a validated tree never
-    /// indexes out of bounds.
+    /// Validates and wraps a tree's slices, in time linear in their length and without an
+    /// allocator.
+    ///
+    /// - `nodes[0]` is the root (an empty node slice is an empty scene). Nodes are numbered in
+    ///   build order: a depth-first expansion from the root that, on expanding a node, gives its
+    ///   inner children the next free node indices in slot order, then expands the last one
+    ///   numbered first (the order the builder writes). So every node but the root has
+    ///   exactly one parent, a child's index is above its parent's, and every node is reached.
+    /// - `blocks`: the primitives in leaf order, in SoA blocks of [`BLOCK`]: block slot `k` is
+    ///   primitive `k % BLOCK` of block `k / BLOCK`, whose rows are
+    ///   `blocks[(k / BLOCK)·WORDS ..][..WORDS]` (row `w` holds word `w` of the block's
+    ///   primitives, [`Primitive::write_block`]). Leaves take block slots in build order, each
+    ///   starting a block and padded to whole blocks, and cover every block.
+    /// - `ids[k]`: the caller's index of slot `k`, below `prims` (the length of the caller's
+    ///   primitive slice) inside a leaf, [`PAD`] on a leaf's padding.
+    ///
+    /// A validated tree guarantees: traversal never indexes out of bounds or panics, visits each
+    /// node and tests each primitive at most once per ray (work linear in the tree's size), and
+    /// every reported `prim` is below `prims`.
     pub fn new(
         nodes: &'a [Bvh8Node],
         blocks: &'a [[f32; BLOCK]],
         ids: &'a [u32],
+        prims: usize,
     ) -> Result<Self, BvhError> {
         if !ids.len().is_multiple_of(BLOCK)
             || Some(blocks.len()) != (ids.len() / BLOCK).checked_mul(P::WORDS)
@@ -188,31 +226,13 @@ impl<'a, P: Primitive> Bvh8Ref<'a, P> {
         if ids.len() > MAX_PRIMS {
             return Err(BvhError::TooManyPrims(ids.len()));
         }
-        for (i, n) in nodes.iter().enumerate() {
-            let mut ended = false;
-            for s in 0..WIDTH {
-                let (c, k) = (n.child[s], n.count[s]);
-                if c == EMPTY {
-                    ended = true;
-                    continue;
-                }
-                if ended {
-                    return Err(BvhError::BadNodeRef { node: i });
-                }
-                if k == 0 {
-                    if (c as usize) <= i || (c as usize) >= nodes.len() {
-                        return Err(BvhError::BadNodeRef { node: i });
-                    }
-                } else if !(c as usize).is_multiple_of(BLOCK)
-                    || (c as usize)
-                        .checked_add(k as usize)
-                        .is_none_or(|e| e > ids.len())
-                {
-                    return Err(BvhError::BadLeaf { node: i });
-                }
-            }
+        if prims > MAX_PRIMS {
+            return Err(BvhError::TooManyPrims(prims));
         }
-        // Depth: a depth-first walk with the traversal's own stack bound.
+        // Replay the build order: each inner slot must name the next node, each leaf the next
+        // block slot. Every node is then numbered once, so the walk visits it once; its stack
+        // holds at most WIDTH − 1 siblings per level, the traversal's own bound.
+        let (mut next_node, mut next_slot) = (1usize, 0usize);
         if !nodes.is_empty() {
             let mut stack = [(0u32, 0u32); STACK];
             let mut sp = 1;
@@ -223,23 +243,59 @@ impl<'a, P: Primitive> Bvh8Ref<'a, P> {
                     return Err(BvhError::TooDeep);
                 }
                 let node = &nodes[n as usize];
-                for s in 0..node.len() {
-                    if node.count[s] == 0 {
+                let bad_node = BvhError::BadNodeRef { node: n as usize };
+                let bad_leaf = BvhError::BadLeaf { node: n as usize };
+                let used = node.len();
+                if node.child[used..].iter().any(|&c| c != EMPTY) {
+                    return Err(bad_node);
+                }
+                for s in 0..used {
+                    let (c, k) = (node.child[s] as usize, node.count[s] as usize);
+                    if k == 0 {
+                        if c != next_node || c >= nodes.len() {
+                            return Err(bad_node);
+                        }
                         if sp == STACK {
                             return Err(BvhError::TooDeep);
                         }
-                        stack[sp] = (node.child[s], d + 1);
+                        next_node += 1;
+                        stack[sp] = (c as u32, d + 1);
                         sp += 1;
+                        continue;
                     }
+                    let end = c.checked_add(k).filter(|&e| e <= ids.len());
+                    let Some(end) = end.filter(|_| c == next_slot) else {
+                        return Err(bad_leaf);
+                    };
+                    let padded = end.next_multiple_of(BLOCK);
+                    if let Some(i) = (c..end).find(|&i| ids[i] as usize >= prims) {
+                        return Err(BvhError::BadIndex { slot: i });
+                    }
+                    if let Some(i) = (end..padded).find(|&i| ids[i] != PAD) {
+                        return Err(BvhError::BadIndex { slot: i });
+                    }
+                    next_slot = padded;
                 }
             }
+        }
+        if next_node < nodes.len() {
+            return Err(BvhError::Unreachable { node: next_node });
+        }
+        if next_slot < ids.len() {
+            return Err(BvhError::UnusedBlocks { slot: next_slot });
         }
         Ok(Self {
             nodes,
             blocks,
             ids,
+            prims,
             _prim: core::marker::PhantomData,
         })
+    }
+
+    /// The length of the caller's primitive slice: every reported `prim` is below it.
+    pub fn prims(&self) -> usize {
+        self.prims
     }
 
     /// The nodes (root first).

@@ -585,6 +585,7 @@ fn coherent(rays: &[Ray]) -> bool {
 ///
 /// # Panics
 /// When `out.len() != rays.len()`.
+#[track_caller]
 pub fn closest<L: Lanes, K: Kernel<L>>(
     bvh: Bvh8Ref<'_, K::Prim>,
     rays: &[Ray],
@@ -616,6 +617,7 @@ pub fn closest<L: Lanes, K: Kernel<L>>(
 ///
 /// # Panics
 /// When `out.len() != rays.len()`.
+#[track_caller]
 pub fn occluded<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray], out: &mut [bool]) {
     assert_eq!(
         out.len(),

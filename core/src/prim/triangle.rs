@@ -75,8 +75,12 @@ impl VertexTriangle {
     }
 }
 
-/// Box of three finite points, or `None`.
+/// Box of three points, or `None` when a coordinate is not finite (checked first: `min` and
+/// `max` would drop a NaN).
 fn points_bounds(p: [[f32; 3]; 3]) -> Option<Aabb> {
+    if !p.iter().flatten().all(|x| x.is_finite()) {
+        return None;
+    }
     let b = Aabb::EMPTY.grow(p[0]).grow(p[1]).grow(p[2]);
     b.is_finite().then_some(b)
 }
