@@ -140,3 +140,11 @@ fn sphere_tiers_distant_naive_fails_stable_holds() {
         }
     }
 }
+
+#[test]
+fn sphere_tiers_tiny_radii_and_directions_down_to_the_underflow_limit() {
+    // a·(r² − |l|²) underflowed to −0 where |d|·r ≲ 1e-19 and passed the `≥ 0` test: false hits
+    // 1e12 radii away, and t errors up to 3·10⁵ times the bound. Now √a·√(r² − |l|²).
+    let s = check_spheres("tiny", &tiny_sphere_cases(131, 20_000));
+    assert!(s[2].exact_hits > 2000, "{} hits", s[2].exact_hits);
+}

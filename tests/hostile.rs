@@ -353,9 +353,9 @@ fn a_t_max_whose_scaled_bound_overflows_is_still_tested() {
 fn a_sphere_whose_discriminant_overflows_is_a_miss_not_a_hit_at_t_0() {
     // Found by the BVH equality proptest widened to scenes of 1e15: with a direction of 4e14
     // and r = 8e12, Δ/4 = a·(r² − |l|²) overflowed to +inf, so q = −inf and c/q = 0 came out as
-    // a hit at t = 0 (the exact hit is at t ≈ 1.085, which the f64 tier finds). Both f32 sphere
-    // kernels now call an overflowed Δ/4 or q a miss (documented: |d|·r ≳ 1.8e19), at every
-    // width, as the triangle tiers do with their overflows.
+    // a hit at t = 0 (the exact hit is at t ≈ 1.085, which the f64 tier finds). The naive kernel
+    // calls an overflowed discriminant a miss; the stable kernel forms √(Δ/4) as √a·√(r² − |l|²),
+    // which stays finite here, and finds the f64 tier's hit at every width.
     use octoray::kernels::{NaiveSphere, StableSphere};
     use octoray::PackedSphere;
     use wide::f64x4;
@@ -375,11 +375,18 @@ fn a_sphere_whose_discriminant_overflows_is_a_miss_not_a_hit_at_t_0() {
     ) -> Option<octoray::Hit> {
         closest::<L, K>(&RayLanes::load(&[*ray]), &[*s]).lane(0)
     }
-    for got in [
+    let stable = [
         at::<f32, StableSphere>(&ray, &sphere),
         at::<f32x4, StableSphere>(&ray, &sphere),
         at::<f32x8, StableSphere>(&ray, &sphere),
         at::<f32x16, StableSphere>(&ray, &sphere),
+    ];
+    for got in stable {
+        let got = got.expect("the stable kernel hits").t;
+        assert!((got - t).abs() <= 1e-5 * t, "{got} vs the f64 tier's {t}");
+        assert_eq!(got.to_bits(), stable[0].unwrap().t.to_bits());
+    }
+    for got in [
         at::<f32x8, NaiveSphere>(&ray, &sphere),
         at::<f32x16, NaiveSphere>(&ray, &sphere),
     ] {
@@ -661,4 +668,112 @@ fn a_batch_length_mismatch_points_at_the_callers_line() {
             "{at:?}"
         );
     }
+}
+
+#[test]
+fn the_exact_tier_misses_where_the_exact_t_is_just_beyond_f32_max() {
+    // Exact t = f32::MAX + 2¹⁰⁰ rounds to f32::MAX; the rounded t passed the `≤ f32::MAX` check
+    // and the exact tier reported a hit that its contract calls a miss. Mirrored too.
+    let m = f32::MAX;
+    let far = 2f32.powi(100);
+    for sign in [1.0f32, -1.0] {
+        let z = sign * m;
+        let tri = VertexTriangle::new(
+            Vec3::new(-1.0, -1.0, z),
+            Vec3::new(1.0, -1.0, z),
+            Vec3::new(0.0, 1.0, z),
+        );
+        let dir = Vec3::new(0.0, 0.0, sign);
+        for (origin_z, want) in [
+            (-far, None),   // exact t = MAX + 2¹⁰⁰: a miss
+            (0.0, Some(m)), // exact t = MAX: a hit
+            (far, Some(m)), // exact t = MAX − 2¹⁰⁰, rounded to MAX
+            (-m, None),     // exact t = 2·MAX
+        ] {
+            let ray = Ray::new(Vec3::new(0.0, 0.0, sign * origin_z), dir);
+            let got = [
+                octoray::intersect::<f32, Exact>(&ray, &tri),
+                closest::<f32x16, Exact>(&RayLanes::load(&[ray]), &[tri]).lane(0),
+                closest::<f32x4, Exact>(&RayLanes::load(&[ray]), &[tri]).lane(0),
+            ];
+            for (k, h) in got.iter().enumerate() {
+                assert_eq!(
+                    h.map(|h| h.t),
+                    want,
+                    "sign {sign}, origin {origin_z}, call {k}"
+                );
+            }
+            #[cfg(feature = "alloc")]
+            {
+                let tree = octoray::bvh::Bvh8::build(&[tri]);
+                let h = octoray::bvh::traverse::closest_ray::<f32x8, Exact>(tree.as_ref(), &ray);
+                assert_eq!(h.map(|h| h.t), want, "bvh, sign {sign}, origin {origin_z}");
+            }
+            // With t_min = MAX only the exact t = MAX is left.
+            let r = Ray::with_range(ray.origin, ray.dir, m, f32::INFINITY);
+            let h = octoray::intersect::<f32, Exact>(&r, &tri).map(|h| h.t);
+            let want = want.filter(|_| origin_z == 0.0);
+            assert_eq!(h, want, "t_min = MAX, origin {origin_z}");
+        }
+    }
+}
+
+#[cfg(feature = "sphere")]
+#[test]
+fn the_stable_sphere_misses_where_a_times_the_discriminant_would_underflow() {
+    // a·(r² − |l|²) = 1e-34·(−1e-12) underflowed to −0, passed `≥ 0`, and the ray hit at
+    // t = 1e17, about 10¹² radii from a sphere of radius 1e-18.
+    use octoray::{PackedSphere, StableSphere};
+    let s = PackedSphere::new(Vec3::ZERO, 1e-18);
+    let ray = Ray::new(Vec3::new(1e-6, 0.0, -1.0), Vec3::new(0.0, 0.0, 1e-17));
+    assert_eq!(octoray::intersect::<f32, StableSphere>(&ray, &s), None);
+    assert_eq!(octoray::intersect::<f64, StableSphere>(&ray, &s), None);
+    let p = RayLanes::<f32x16>::load(&[ray]);
+    assert_eq!(closest::<f32x16, StableSphere>(&p, &[s]).lane(0), None);
+    // Aimed at the centre it is a hit, at the t the f64 tier finds (to f32 rounding).
+    let ray = Ray::new(Vec3::new(0.0, 0.0, -1e-6), Vec3::new(0.0, 0.0, 1e-17));
+    let want = octoray::intersect::<f64, StableSphere>(&ray, &s).expect("f64 hit");
+    let got = octoray::intersect::<f32, StableSphere>(&ray, &s).expect("f32 hit");
+    assert!(
+        (got.t - want.t).abs() <= want.t * 1e-6,
+        "{got:?} vs {want:?}"
+    );
+    // Below the documented direction range (|d|² subnormal) every test is a miss.
+    let ray = Ray::new(Vec3::new(0.0, 0.0, -1e-6), Vec3::new(0.0, 0.0, 4e-20));
+    assert_eq!(octoray::intersect::<f32, StableSphere>(&ray, &s), None);
+}
+
+#[cfg(all(feature = "sphere", feature = "alloc"))]
+#[test]
+fn a_hand_built_sphere_with_a_zero_or_subnormal_radius_sq_is_missed_by_brute_force_and_bvh_alike() {
+    // radius_sq = 0 was hit at t = 5 by brute force and skipped by the BVH build.
+    use octoray::{NaiveSphere, PackedSphere, StableSphere};
+    let ray = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
+    for r2 in [0.0, -0.0, 1e-40, -1.0, f32::INFINITY, f32::NAN] {
+        let s = PackedSphere {
+            center: [0.0; 3],
+            radius_sq: r2,
+        };
+        let tree = octoray::bvh::Bvh8::build(&[s]);
+        assert_eq!(tree.stats().skipped, 1, "radius_sq {r2}");
+        let p = RayLanes::<f32x8>::load(&[ray]);
+        let answers = [
+            octoray::intersect_sphere(&ray, &s),
+            closest::<f32x8, StableSphere>(&p, &[s]).lane(0),
+            closest::<f32x8, NaiveSphere>(&p, &[s]).lane(0),
+            octoray::intersect::<f64, StableSphere>(&ray, &s),
+            octoray::bvh::traverse::closest_ray::<f32x8, StableSphere>(tree.as_ref(), &ray),
+        ];
+        assert_eq!(answers, [None; 5], "radius_sq {r2}");
+    }
+    // The smallest normal radius_sq is a sphere, in both.
+    let s = PackedSphere {
+        center: [0.0; 3],
+        radius_sq: f32::MIN_POSITIVE,
+    };
+    let tree = octoray::bvh::Bvh8::build(&[s]);
+    let brute = octoray::intersect_sphere(&ray, &s).map(|h| h.t);
+    let bvh = octoray::bvh::traverse::closest_ray::<f32x8, StableSphere>(tree.as_ref(), &ray);
+    assert!(brute.is_some());
+    assert_eq!(bvh.map(|h| h.t), brute);
 }

@@ -515,3 +515,30 @@ pub fn near_sphere_cases(seed: u64, n: usize) -> Vec<SphereCase> {
         })
         .collect()
 }
+
+/// Rays at tiny spheres and with tiny directions, down to where `|d|·r` underflows: radii from
+/// `PackedSphere::MIN_RADIUS` to 1e-3, `|d|` from 1.2e-19 to 1, origins 1 to 1e4 radii from
+/// the centre, aimed within ±1.5 r of it, around centres at 0 to 1e3 radii from the origin.
+pub fn tiny_sphere_cases(seed: u64, n: usize) -> Vec<SphereCase> {
+    let mut rng = Rng(seed);
+    (0..n)
+        .map(|_| {
+            let r = 10f32
+                .powf(rng.range(-18.9, -3.0))
+                .max(PackedSphere::MIN_RADIUS);
+            let (away, dist) = (
+                10f32.powf(rng.range(0.0, 3.0)),
+                10f32.powf(rng.range(0.0, 4.0)),
+            );
+            let center = rng.vec3(r * away);
+            let o = center + rng.vec3(1.0).normalize() * (r * dist);
+            let target = center + rng.vec3(1.5 * r);
+            let len = 10f32.powf(rng.range(-18.9, 0.0));
+            SphereCase {
+                ray: Ray::new(o, (target - o).normalize() * len),
+                center,
+                radius: r,
+            }
+        })
+        .collect()
+}

@@ -28,7 +28,9 @@ impl Sphere {
 pub struct PackedSphere {
     /// Centre.
     pub center: [f32; 3],
-    /// Squared radius; NaN marks a sphere that can never be hit.
+    /// Squared radius; a value that is not a finite normal f32 `> 0` (NaN, as
+    /// [`PackedSphere::new`] stores it, but also ±0, subnormals, negatives, +inf) is a sphere
+    /// that is never hit, by every kernel and the BVH alike.
     pub radius_sq: f32,
 }
 
@@ -84,8 +86,10 @@ impl Primitive for PackedSphere {
         }
     }
     fn bounds(&self) -> Option<Aabb> {
+        // The kernels' rule: a squared radius that is not a finite normal f32 is never hit.
         let r2 = self.radius_sq;
-        if !(r2 > 0.0 && r2.is_finite() && self.center.iter().all(|c| c.is_finite())) {
+        if !(r2 >= f32::MIN_POSITIVE && r2.is_finite() && self.center.iter().all(|c| c.is_finite()))
+        {
             return None;
         }
         // r = √r² rounded up by an ulp, then every face moved outward by an ulp.

@@ -14,7 +14,7 @@ use crate::prim::Ray;
 use crate::prim::{PackedSphere, Sphere};
 #[cfg(feature = "triangle")]
 use crate::prim::{PackedTriangle, VertexTriangle};
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use offset::offset_ray_origin;
 
 /// Surface data of a hit.
@@ -25,17 +25,25 @@ pub struct Surface {
     pub point: Vec3,
     /// Componentwise error bound of `point`, as [`offset::offset_ray_origin`] takes it.
     pub error: Vec3,
-    /// Unit geometric normal, turned to face the incoming ray (`n·d ≤ 0`); zero for a degenerate
-    /// primitive.
+    /// Unit geometric normal, turned to face the incoming ray (`n·d ≤ 0`): finite and of unit
+    /// length for every finite primitive a kernel reports a hit on, whatever its scale; zero only
+    /// for a degenerate or non-finite one.
     pub normal: Vec3,
 }
 
 impl Surface {
     /// Surface data from a hit point, its error bound and a geometric normal (any length, any
-    /// orientation): the normal is normalised and turned to face `ray`.
+    /// orientation, any finite magnitude): the normal is normalised ([`unit`]) and turned to face
+    /// `ray`.
     pub fn new(ray: &Ray, point: Vec3, error: Vec3, normal: Vec3) -> Self {
-        let mut n = normal.normalize_or_zero();
-        if n.dot(ray.dir) > 0.0 {
+        Self::facing(ray, point, error, unit(normal.as_dvec3()))
+    }
+
+    /// [`Surface::new`] with the normal already of unit length (or zero).
+    fn facing(ray: &Ray, point: Vec3, error: Vec3, unit_normal: Vec3) -> Self {
+        let mut n = unit_normal;
+        // In f64: n·d of a huge direction could overflow f32.
+        if n.as_dvec3().dot(ray.dir.as_dvec3()) > 0.0 {
             n = -n;
         }
         Self {
@@ -64,6 +72,17 @@ impl Surface {
     }
 }
 
+/// `v / |v|` rounded to f32, or zero when `v` is zero or not finite. In f64: the squared length
+/// of any vector of f32-range components (or of products of two, as a cross product of f32 edges)
+/// is a normal f64, where in f32 it overflows past ~1.8e19 and underflows below ~1e-19.
+pub fn unit(v: DVec3) -> Vec3 {
+    let len = v.length();
+    if !(len > 0.0 && len.is_finite()) {
+        return Vec3::ZERO;
+    }
+    (v / len).as_vec3()
+}
+
 /// A primitive layout that can describe the surface at a hit on it.
 pub trait Shade {
     /// Surface data for `hit`, a hit of `ray` on `self` (its `t`, `u`, `v`; `prim` is not read).
@@ -74,12 +93,9 @@ pub trait Shade {
 impl Shade for VertexTriangle {
     fn surface(&self, ray: &Ray, hit: &Hit) -> Surface {
         let (p, err) = offset::triangle_hit_point(self, hit.u, hit.v);
-        let (v0, v1, v2) = (
-            Vec3::from(self.v0),
-            Vec3::from(self.v1),
-            Vec3::from(self.v2),
-        );
-        Surface::new(ray, p, err, (v1 - v0).cross(v2 - v0))
+        // The edges and their cross product in f64: no f32 overflow or underflow at any scale.
+        let [v0, v1, v2] = self.vertices().map(|v| v.as_dvec3());
+        Surface::facing(ray, p, err, unit((v1 - v0).cross(v2 - v0)))
     }
 }
 
@@ -93,7 +109,8 @@ impl Shade for PackedTriangle {
     }
 }
 
-/// The normal is `p − c` at the projected point. The radius is `√radius_sq` rounded to f32,
+/// The normal is the direction from the centre to the hit point, in f64 before the point is
+/// rounded. The radius is `√radius_sq` rounded to f32,
 /// within an ulp of the radius that was packed, far inside the point's error bound.
 #[cfg(feature = "sphere")]
 impl Shade for PackedSphere {
@@ -105,7 +122,7 @@ impl Shade for PackedSphere {
 #[cfg(feature = "sphere")]
 impl Shade for Sphere {
     fn surface(&self, ray: &Ray, hit: &Hit) -> Surface {
-        let (p, err) = offset::sphere_hit_point(ray, hit.t, self.center, self.radius);
-        Surface::new(ray, p, err, p - self.center)
+        let (p, err, outward) = offset::sphere_hit(ray, hit.t, self.center, self.radius);
+        Surface::facing(ray, p, err, unit(outward))
     }
 }

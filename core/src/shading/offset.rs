@@ -25,24 +25,36 @@ fn gamma(n: f32) -> f32 {
 /// sphere kernels' rounding of `f·f − r²` for an origin just outside (tested: zero re-hits).
 #[cfg(feature = "sphere")]
 pub fn sphere_hit_point(ray: &crate::prim::Ray, t: f32, center: Vec3, radius: f32) -> (Vec3, Vec3) {
+    let (p, err, _) = sphere_hit(ray, t, center, radius);
+    (p, err)
+}
+
+/// [`sphere_hit_point`] and the outward direction from the centre to the f64 point before it is
+/// rounded: far from the origin (`|c| ≫ r`) the f32 point resolves the sphere coarsely, and a
+/// normal from `p − c` in f32 would be off by up to `ulp(|c|)/r` radians.
+#[cfg(feature = "sphere")]
+pub(crate) fn sphere_hit(
+    ray: &crate::prim::Ray,
+    t: f32,
+    center: Vec3,
+    radius: f32,
+) -> (Vec3, Vec3, glam::DVec3) {
     let p = ray.at(t);
     // In f64: |p − c|² of a tiny sphere (r ≲ 1e-19) underflows in f32 and would give NaN, and
     // o + t·d of a huge direction can overflow f32 before the point is projected back.
-    let (o, d) = (ray.origin.to_array(), ray.dir.to_array());
-    let pd: [f64; 3] = core::array::from_fn(|k| f64::from(o[k]) + f64::from(t) * f64::from(d[k]));
-    let cd = center.to_array().map(f64::from);
-    let diff: [f64; 3] = core::array::from_fn(|k| pd[k] - cd[k]);
-    let len = libm::sqrt(diff[0] * diff[0] + diff[1] * diff[1] + diff[2] * diff[2]);
-    let s = f64::from(radius) / len;
-    let q: [f64; 3] = core::array::from_fn(|k| cd[k] + diff[k] * s);
+    let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
+    let cd = center.as_dvec3();
+    let diff = o + d * f64::from(t) - cd;
+    let len = diff.length();
+    let q = cd + diff * (f64::from(radius) / len);
     // Re-project only where that is a finite point (not for p == c or a non-finite input).
-    let p = if len > 0.0 && q.iter().all(|x| (*x as f32).is_finite()) {
-        Vec3::new(q[0] as f32, q[1] as f32, q[2] as f32)
+    let p = if len > 0.0 && q.as_vec3().is_finite() {
+        q.as_vec3()
     } else {
         p
     };
     let err = (p.abs() + center.abs() + Vec3::splat(radius)) * gamma(8.0);
-    (p, err)
+    (p, err, diff)
 }
 
 /// The point with barycentrics `(u, v)` (weights of `v1`, `v2`) on `tri`, and the componentwise
@@ -61,7 +73,10 @@ pub fn triangle_hit_point(tri: &VertexTriangle, u: f32, v: f32) -> (Vec3, Vec3) 
     let b0 = 1.0 - u - v;
     let p = v0 * b0 + v1 * u + v2 * v;
     let point_err = ((v0 * b0).abs() + (v1 * u).abs() + (v2 * v).abs()) * gamma(7.0);
-    let kernel_err = gamma(8.0) * ((v1 - v0).length() + (v2 - v0).length());
+    // Edge lengths in f64: in f32 their squares overflow past ~1.8e19 and underflow below ~1e-19.
+    let [a, b, c] = [v0, v1, v2].map(|v| v.as_dvec3());
+    let edges = (b - a).length() + (c - a).length();
+    let kernel_err = (f64::from(gamma(8.0)) * edges) as f32;
     (p, point_err + Vec3::splat(kernel_err))
 }
 
@@ -90,7 +105,7 @@ fn next_down(x: f32) -> f32 {
 ///
 /// Returns `p` unchanged when `n` is zero or not finite (there is no side to pick).
 pub fn offset_ray_origin(p: Vec3, p_error: Vec3, n: Vec3, w: Vec3) -> Vec3 {
-    let n = n.normalize_or_zero();
+    let n = super::unit(n.as_dvec3());
     if n == Vec3::ZERO {
         return p;
     }

@@ -11,7 +11,7 @@
 //!   overflowed `b² − 4ac` or `2a` (`|f|·|d|` or `|d|·r` beyond ~1e19).
 
 use crate::hit::{nearest_root_in_range, LanesHit};
-use crate::lanes::{LaneMask, Lanes};
+use crate::lanes::{LaneMask, Lanes, Scalar};
 use crate::prim::{PackedSphere, RayLanes};
 use crate::prim::{Primitive, SphereLanes};
 
@@ -35,7 +35,15 @@ pub fn intersect_lanes<L: Lanes>(ray: &RayLanes<L>, sphere: &SphereLanes<L>) -> 
     let two_a = L::splat(2.0) * a;
     // An overflowed discriminant or 2a makes the roots meaningless (a finite b over an infinite
     // 2a would give a false hit at t = 0): a miss.
-    let mask = ray.active & a.gt(zero) & two_a.is_finite() & disc.ge(zero) & disc.is_finite();
+    // A squared radius below f32's normal range is no sphere (as `PackedSphere::new` and the
+    // BVH's boxes have it), and a subnormal `a` no direction.
+    let normal = L::splat_scalar(L::Scalar::from_f64(L::Scalar::MIN_NORMAL));
+    let mask = ray.active
+        & a.ge(normal)
+        & sphere.radius_sq.ge(L::splat(f32::MIN_POSITIVE))
+        & two_a.is_finite()
+        & disc.ge(zero)
+        & disc.is_finite();
     if mask.none() {
         return LanesHit::miss(mask);
     }

@@ -259,15 +259,12 @@ pub fn resolve(q: &LaneQuery) -> Option<Resolved> {
     if plane.parallel() || q.edges && !(plane.inside() && (!q.cull || plane.front())) {
         return None;
     }
+    let (lo, hi) = finite_range(q);
     let ge_min = matches!(
-        plane.t_cmp_f64(q.t_min),
+        plane.t_cmp_f64(lo),
         Some(Ordering::Greater | Ordering::Equal)
     );
-    let le_max = !q.check_max
-        || matches!(
-            plane.t_cmp_f64(q.t_max),
-            Some(Ordering::Less | Ordering::Equal)
-        );
+    let le_max = matches!(plane.t_cmp_f64(hi), Some(Ordering::Less | Ordering::Equal));
     if !(ge_min && le_max) {
         return None;
     }
@@ -277,6 +274,15 @@ pub fn resolve(q: &LaneQuery) -> Option<Resolved> {
         b1,
         b2,
     })
+}
+
+/// The range [`resolve`] decides `t` against: `[t_min, t_max]` (`t_max` only with `check_max`)
+/// within `±f32::MAX`, since an exact `t` beyond f32's range is a miss even where it would round
+/// to `±f32::MAX`.
+fn finite_range(q: &LaneQuery) -> (f64, f64) {
+    let max = f64::from(f32::MAX);
+    let hi = if q.check_max { q.t_max.min(max) } else { max };
+    (q.t_min.max(-max), hi)
 }
 
 /// `det[r0, r1, r2] = r0·(r1 × r2)` in f64 and its permanent `|r0|·(|r1| × |r2|)` (the sum of
@@ -308,11 +314,9 @@ fn resolve_f64(q: &LaneQuery) -> Option<Option<Resolved>> {
         o,
         d,
         v,
-        t_min,
-        t_max,
         edges,
         cull,
-        check_max,
+        ..
     } = *q;
     let u = f64::EPSILON / 2.0;
     let wide = |p: P| p.map(f64::from);
@@ -370,10 +374,8 @@ fn resolve_f64(q: &LaneQuery) -> Option<Option<Resolved>> {
             Ordering::Less
         })
     };
-    if cmp(t_min)? == Ordering::Less {
-        return Some(None);
-    }
-    if check_max && cmp(t_max)? == Ordering::Greater {
+    let (lo, hi) = finite_range(q);
+    if cmp(lo)? == Ordering::Less || cmp(hi)? == Ordering::Greater {
         return Some(None);
     }
     // t to 2⁻³² relative, else the exact stage (t near 0, or N and D barely certified).

@@ -405,6 +405,17 @@ fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
     let err_nd = err_d + ulps::<L>(3.01) * abs_det;
     let err_n3 = err_n + ulps::<L>(3.01) * num.abs();
     let slack = |b: L| err_n3 + b.abs() * err_nd;
+    // The exact tier certifies t within [t_min, t_max] ∩ [−f32::MAX, f32::MAX]: an exact t just
+    // beyond f32's range is a miss though its rounded t may not be (NaN bounds stay NaN: a miss).
+    let (t_min, t_max) = if EXACT {
+        let max = L::splat(f32::MAX);
+        (
+            L::select(t_min.lt(-max), -max, t_min),
+            L::select(t_max.gt(max), max, t_max),
+        )
+    } else {
+        (t_min, t_max)
+    };
     let (at_min, at_max) = (t_min * abs_det, t_max * abs_det);
     let (s_min, s_max) = (slack(t_min), slack(t_max));
     let mut above_min = (num - at_min).gt(s_min) | t_min.le(-inf);
