@@ -281,3 +281,53 @@ fn camera_options_parse_and_keep_the_mesh_in_place() {
         assert!(err.contains(says), "{bad}: {err}");
     }
 }
+
+#[test]
+fn an_obj_of_only_points_and_lines_has_no_faces() {
+    // It rendered without a mesh and exited 0, calling its lines "degenerate triangles".
+    let p = obj(
+        "lines.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nl 2 3\np 1\nf 1 2\n",
+    );
+    let err = cli::load_scene(&Some(p))
+        .err()
+        .expect("no faces is an error");
+    assert!(err.contains("has no faces"), "{err}");
+    // Lines beside faces are left out, not counted as degenerate triangles.
+    let text = format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n{TETRA_FACES}l 1 2\np 3\n");
+    let sc = cli::load_scene(&Some(obj("mixed.obj", &text))).unwrap();
+    assert_eq!((sc.mesh_tris, sc.degenerate_triangles()), (4, 0));
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn a_png_that_cannot_be_written_is_an_error_at_every_size() {
+    // With --output /dev/full, 16x16 and 64x64 images reported success: the buffered writer's
+    // last write error was dropped. 640x400 failed (its writes overflowed the buffer).
+    for (w, h) in [(16, 16), (64, 64), (200, 100)] {
+        let img = render(&Scene::default_scene(), TierArg::Standard, 8, w, h, &|_| {}).unwrap();
+        let path = std::path::Path::new("/dev/full");
+        let file = std::fs::OpenOptions::new().write(true).open(path).unwrap();
+        let err = scene::write_png(&img, file, path).err();
+        assert!(
+            err.as_deref().is_some_and(|e| e.contains("cannot write")),
+            "{w}x{h}: {err:?}"
+        );
+    }
+    // A writable file still gets a whole PNG.
+    let img = render(
+        &Scene::default_scene(),
+        TierArg::Standard,
+        8,
+        16,
+        16,
+        &|_| {},
+    )
+    .unwrap();
+    let path = std::env::temp_dir().join(format!("octoray-png-{}.png", std::process::id()));
+    scene::write_png(&img, std::fs::File::create(&path).unwrap(), &path).unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    std::fs::remove_file(&path).ok();
+    assert_eq!(&bytes[1..4], b"PNG");
+    assert_eq!(&bytes[bytes.len() - 8..bytes.len() - 4], b"IEND");
+}

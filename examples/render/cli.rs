@@ -143,9 +143,12 @@ pub fn load_scene(obj: &Option<PathBuf>) -> Result<Scene, String> {
 
 /// Positions and triangle indices of every model in an OBJ file, merged.
 fn load_mesh(path: &std::path::Path) -> Result<(Vec<[f32; 3]>, Vec<u32>), String> {
+    // Points and lines are not surfaces: left out (tobj would make zero-area triangles of them).
     let opts = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
+        ignore_points: true,
+        ignore_lines: true,
         ..Default::default()
     };
     let (models, _) = tobj::load_obj(path, &opts)
@@ -174,7 +177,10 @@ fn load_mesh(path: &std::path::Path) -> Result<(Vec<[f32; 3]>, Vec<u32>), String
         indices.extend(m.mesh.indices.iter().map(|i| i.saturating_add(base)));
     }
     if indices.is_empty() {
-        return Err(format!("{} has no faces", path.display()));
+        return Err(format!(
+            "{} has no faces (points and lines are not surfaces)",
+            path.display()
+        ));
     }
     Ok((positions, indices))
 }

@@ -532,12 +532,16 @@ pub fn resolve_tier(
 
 /// Writes an 8-bit RGB PNG to `file` (already created at `path`, which messages name).
 pub fn write_png(img: &Image, file: std::fs::File, path: &std::path::Path) -> Result<(), String> {
-    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), img.width, img.height);
+    use std::io::Write;
+    let fail = |e: &dyn std::fmt::Display| format!("cannot write {}: {e}", path.display());
+    let mut out = std::io::BufWriter::new(file);
+    let mut enc = png::Encoder::new(&mut out, img.width, img.height);
     enc.set_color(png::ColorType::Rgb);
     enc.set_depth(png::BitDepth::Eight);
-    let mut w = enc
-        .write_header()
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-    w.write_image_data(&img.rgb)
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))
+    let mut w = enc.write_header().map_err(|e| fail(&e))?;
+    w.write_image_data(&img.rgb).map_err(|e| fail(&e))?;
+    // Finish and flush explicitly: a dropped writer would lose the last write's error (a full
+    // disk then looked like success for small images).
+    w.finish().map_err(|e| fail(&e))?;
+    out.flush().map_err(|e| fail(&e))
 }
