@@ -456,99 +456,20 @@ fn spawned_rays_do_not_rehit_their_own_sphere() {
     );
 }
 
-/// A tier's hit and its spawn test, on one triangle.
-type TierFn = fn(&Ray, &VertexTriangle) -> Option<Hit>;
-
-/// The triangle tiers with the scale exponents (base 10) of their documented range.
-fn spawn_tiers() -> [(&'static str, TierFn, f32, f32); 5] {
-    use octoray::Exact;
-    fn packed(t: &VertexTriangle) -> PackedTriangle {
-        PackedTriangle::from(*t)
-    }
-    [
-        (
-            "standard",
-            |r, t| intersect::<f32, MollerTrumbore>(r, &packed(t)),
-            -14.0,
-            12.0,
-        ),
-        (
-            "watertight",
-            |r, t| intersect::<f32, Watertight>(r, t),
-            -19.0,
-            18.5,
-        ),
-        ("exact", |r, t| intersect::<f32, Exact>(r, t), -30.0, 35.0),
-        (
-            "f64",
-            |r, t| intersect::<f64, MollerTrumbore>(r, &packed(t)),
-            -37.0,
-            18.5,
-        ),
-        (
-            "f64 watertight",
-            |r, t| intersect::<f64, Watertight>(r, t),
-            -37.0,
-            18.5,
-        ),
-    ]
-}
-
 #[test]
 fn normals_are_unit_and_spawns_do_not_rehit_over_each_tiers_whole_range() {
     // The normal was normalised in f32, whose squared length overflowed past edges of ~1e10
     // and underflowed below ~1e-10: a zero normal, and spawned rays re-hit at t = 0.
-    use octoray::Shade;
+    use testkit::spawn::{triangle_case, SpawnCount, TRIANGLE_TIERS};
     let mut rng = Rng(2026);
-    let mut spawned = 0;
-    for (name, hit_with, lo, hi) in spawn_tiers() {
-        let mut rehits = vec![];
+    for tier in TRIANGLE_TIERS {
+        let mut count = SpawnCount::default();
         for _ in 0..6000 {
-            let e = rng.range(lo, hi);
-            let s = 10f32.powf(e);
-            let away = 10f32.powf(rng.range(0.0, 1.0));
-            let c = rng.vec3(s * away);
-            let tri = [c + rng.vec3(s), c + rng.vec3(s), c + rng.vec3(s)];
-            let vt = VertexTriangle::new(tri[0], tri[1], tri[2]);
-            let target = tri[0]
-                + (tri[1] - tri[0]) * rng.range(0.05, 0.45)
-                + (tri[2] - tri[0]) * rng.range(0.05, 0.45);
-            let o = target + rng.vec3(3.0 * s);
-            let ray = Ray::new(o, target - o);
-            let Some(hit) = hit_with(&ray, &vt) else {
-                continue;
-            };
-            let surf = vt.surface(&ray, &hit);
-            let n = surf.normal;
-            assert!(
-                n.is_finite() && (n.length() - 1.0).abs() < 1e-6 && n.dot(ray.dir) <= 0.0,
-                "{name}: normal {n:?} at scale 1e{e} for {vt:?}"
-            );
-            // Away from the plane by at least 0.1 rad, on the ray's side and through.
-            let mut w = rng.vec3(1.0).normalize();
-            if w.dot(n) < 0.0 {
-                w = -w;
-            }
-            if w.dot(n) < 0.1 {
-                continue;
-            }
-            for (origin, dir) in [(surf.spawn(w), w), (surf.spawn(-w), -w)] {
-                spawned += 1;
-                let spawn = Ray::new(origin, dir);
-                if let Some(h) = hit_with(&spawn, &vt) {
-                    rehits.push(format!("scale 1e{e}: {spawn:?} re-hit at {}", h.t));
-                }
-            }
+            triangle_case(&mut rng, tier, &mut count).unwrap();
         }
-        assert!(
-            rehits.is_empty(),
-            "{name}: {} re-hits, first {:?}",
-            rehits.len(),
-            rehits.first()
-        );
+        println!("{}: {count:?}, 0 re-hits", tier.0);
+        assert!(count.spawned > 6000, "{}: {count:?}", tier.0);
     }
-    println!("{spawned} spawned rays over every tier's range: 0 re-hits");
-    assert!(spawned > 30_000, "{spawned}");
 }
 
 #[test]
@@ -556,45 +477,12 @@ fn sphere_normals_are_unit_and_spawns_do_not_rehit_far_from_the_origin_at_every_
     // The normal was p − c in f32, off by up to ulp(|c|)/r radians: from 1e6 radii from the origin
     // on, rays spawned into the outer hemisphere of that normal went into the sphere (10 of
     // 13 226 at 1e7 radii, 165 of 4 970 at 1e8). Now from the f64 point before rounding.
-    use octoray::{PackedSphere, Shade, Sphere, StableSphere};
+    use testkit::spawn::{sphere_case, SpawnCount};
     let mut rng = Rng(77);
-    let mut spawned = 0;
-    for k in [0.0f32, 2.0, 4.0, 6.0, 7.0, 8.0] {
-        for _ in 0..4000 {
-            let r = 10f32.powf(rng.range(-18.0, 15.0));
-            let c = rng.vec3(1.0).normalize() * (r * 10f32.powf(k));
-            let s = PackedSphere::new(c, r);
-            let o = c + rng.vec3(1.0).normalize() * (r * rng.range(2.0, 100.0));
-            let ray = Ray::new(o, (c + rng.vec3(r) - o).normalize());
-            let Some(h) = intersect::<f32, StableSphere>(&ray, &s) else {
-                continue;
-            };
-            let surf = Sphere::new(c, r).surface(&ray, &h);
-            let n = surf.normal;
-            assert!(
-                n.is_finite() && (n.length() - 1.0).abs() < 1e-6 && n.dot(ray.dir) <= 0.0,
-                "normal {n:?}, r {r}, centre 1e{k} radii"
-            );
-            let mut w = rng.vec3(1.0).normalize();
-            if w.dot(n) < 0.0 {
-                w = -w;
-            }
-            if w.dot(n) < 0.1 {
-                continue;
-            }
-            spawned += 1;
-            let spawn = Ray::new(surf.spawn(w), w);
-            for (tier, hit) in [
-                ("f32", intersect::<f32, StableSphere>(&spawn, &s)),
-                ("f64", intersect::<f64, StableSphere>(&spawn, &s)),
-            ] {
-                assert_eq!(
-                    hit, None,
-                    "{tier} re-hit: {spawn:?}, r {r}, centre 1e{k} radii"
-                );
-            }
-        }
+    let mut count = SpawnCount::default();
+    for _ in 0..24_000 {
+        sphere_case(&mut rng, &mut count).unwrap();
     }
-    println!("{spawned} rays spawned from spheres 1 to 1e8 radii from the origin: 0 re-hits");
-    assert!(spawned > 12_000, "{spawned}");
+    println!("spheres 1 to 1e8 radii from the origin: {count:?}, 0 re-hits");
+    assert!(count.spawned > 10_000, "{count:?}");
 }

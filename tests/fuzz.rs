@@ -595,6 +595,119 @@ fn run_batch(rng: &mut Rng) {
     }
 }
 
+/// Serialised trees that passed and failed validation, and queries run on the passed ones.
+static TREES: [std::sync::atomic::AtomicUsize; 3] =
+    [const { std::sync::atomic::AtomicUsize::new(0) }; 3];
+
+/// A built tree, serialised, changed by up to four crafted hostile edits (shared subtrees, every
+/// slot on one node, shared or oversized leaf ranges, `PAD` and out-of-range indices, nodes out of
+/// order, back edges, rewritten slots and boxes, random bytes) or cut to a crafted shape (the
+/// shared chain, a chain at and past the depth limit): validation answers without panicking, an
+/// unchanged tree passes, and every query on a tree that passes tests each leaf block at most once
+/// per ray and reports only indices below the caller's count, at finite `t` in range.
+fn run_tree(rng: &mut Rng) {
+    use octoray::bvh::traverse::{occluded_packet, occluded_ray};
+    use octoray::bvh::{Bvh8Ref, MAX_DEPTH};
+    use std::sync::atomic::Ordering::Relaxed;
+    use testkit::trees::{
+        chain, craft, shared_chain, take_leaf_tests, triangles, Counting, Slices,
+    };
+    let n = 1 + rng.below(150) as usize;
+    let tris = triangles(rng, n);
+    // The starting tree, and whether it is valid as it is.
+    let (mut t, valid) = match rng.below(16) {
+        0 => (shared_chain(2 + rng.below(70) as usize), false),
+        1 => {
+            let depth = MAX_DEPTH - 1 + rng.below(3) as usize;
+            (chain(depth), depth <= MAX_DEPTH)
+        }
+        _ => (Slices::of(&Bvh8::build(&tris), n), true),
+    };
+    let edits = rng.below(5);
+    let mut done = vec![];
+    for _ in 0..edits {
+        done.push(craft(rng, &mut t));
+    }
+    let checked = Bvh8Ref::<VertexTriangle>::new(&t.nodes, &t.blocks, &t.ids, t.prims);
+    if edits == 0 {
+        assert_eq!(checked.is_ok(), valid, "{checked:?} for an unchanged tree");
+    }
+    let Ok(bvh) = checked else {
+        TREES[1].fetch_add(1, Relaxed);
+        return;
+    };
+    TREES[0].fetch_add(1, Relaxed);
+    let blocks = t.ids.len() / 8;
+    for _ in 0..4 {
+        let o = rng.vec3(3.0);
+        let rays: Vec<Ray> = (0..8)
+            .map(|_| Ray::with_range(o, rng.vec3(1.0) - o, 0.0, rng.range(0.5, 10.0)))
+            .collect();
+        take_leaf_tests();
+        let single = closest_ray_counting(bvh, &rays[0]);
+        let tests = take_leaf_tests();
+        assert!(
+            tests <= blocks,
+            "{tests} leaf tests over {blocks} blocks after {done:?}"
+        );
+        if let Some(h) = single {
+            assert!(
+                (h.prim as usize) < t.prims,
+                "prim {} of {} after {done:?}",
+                h.prim,
+                t.prims
+            );
+            check_hit(&h, &rays[0], "crafted tree");
+        }
+        let _ = occluded_ray::<f32x8, Counting>(bvh, &rays[1]);
+        assert!(take_leaf_tests() <= blocks, "occlusion after {done:?}");
+        let p = RayLanes::<f32x8>::load(&rays);
+        let packet = closest_packet::<f32x8, Counting>(bvh, &p);
+        let _ = occluded_packet::<f32x16, Counting>(bvh, &RayLanes::load(&rays));
+        let tests = take_leaf_tests();
+        assert!(
+            tests <= 2 * (t.ids.len() + 8 * blocks),
+            "{tests} packet leaf tests over {} slots after {done:?}",
+            t.ids.len()
+        );
+        for (i, r) in rays.iter().enumerate() {
+            if let Some(h) = packet.lane(i) {
+                assert!(
+                    (h.prim as usize) < t.prims,
+                    "packet prim {} after {done:?}",
+                    h.prim
+                );
+                check_hit(&h, r, "crafted tree, packet");
+            }
+        }
+        TREES[2].fetch_add(1, Relaxed);
+    }
+}
+
+fn closest_ray_counting(bvh: octoray::bvh::Bvh8Ref<'_, VertexTriangle>, r: &Ray) -> Option<Hit> {
+    bvh_closest::<f32x8, testkit::trees::Counting>(bvh, r)
+}
+
+/// Spawns over every tier's documented range, and spheres with `|d|·r` down to the underflow
+/// limit against the exact oracle.
+fn run_spawn_and_tiny_spheres(rng: &mut Rng) {
+    use testkit::accuracy::{measure_spheres, tiny_sphere_cases, SphereTier};
+    use testkit::spawn::{sphere_case, triangle_case, SpawnCount, TRIANGLE_TIERS};
+    let mut count = SpawnCount::default();
+    let tier = TRIANGLE_TIERS[rng.below(TRIANGLE_TIERS.len() as u64) as usize];
+    triangle_case(rng, tier, &mut count).unwrap();
+    sphere_case(rng, &mut count).unwrap();
+    let cases = tiny_sphere_cases(rng.next_u64(), 4);
+    for (tier, bound) in [(SphereTier::Stable, 8.0), (SphereTier::F64, 2.0)] {
+        let s = measure_spheres(tier, &cases);
+        assert!(
+            s.wrong == 0 && s.bad_t == 0 && s.max_scaled() <= bound,
+            "{}: {s:?} for {cases:?}",
+            tier.name()
+        );
+    }
+}
+
 /// Runs `n` cases of every kind from `seed`; returns (cases, BVH rays).
 fn fuzz(seed: u64, n: usize) -> (usize, usize) {
     let mut rng = Rng(seed);
@@ -609,9 +722,21 @@ fn fuzz(seed: u64, n: usize) -> (usize, usize) {
         if i % 8 == 0 {
             run_batch(&mut rng);
             bvh_rays += run_bvh(&mut rng);
+            run_spawn_and_tiny_spheres(&mut rng);
+        }
+        if i % 64 == 0 {
+            run_tree(&mut rng);
         }
     }
     (n, bvh_rays)
+}
+
+/// The crafted-tree counts, for the closing line.
+fn trees() -> String {
+    let [ok, bad, q] = TREES
+        .each_ref()
+        .map(|c| c.load(std::sync::atomic::Ordering::Relaxed));
+    format!("{} crafted trees ({ok} accepted, {bad} rejected), {q} query rounds on accepted ones within the work bound", ok + bad)
 }
 
 #[test]
@@ -619,7 +744,7 @@ fn fuzz_fast_slice() {
     let (n, bvh) = fuzz(0x0c70_7a11, 20_000);
     let skipped = OUT_OF_RANGE.load(std::sync::atomic::Ordering::Relaxed);
     let within = DECIDED_WITHIN_ERROR.load(std::sync::atomic::Ordering::Relaxed);
-    println!("{n} cases per entry point, {bvh} BVH rays ({within} answers differ from brute force within the t error bound); {skipped} hits outside the documented range (underflow) not oracle-checked");
+    println!("{n} cases per entry point, {bvh} BVH rays ({within} answers differ from brute force within the t error bound); {skipped} hits outside the documented range (underflow) not oracle-checked; {}", trees());
 }
 
 #[test]
@@ -628,5 +753,5 @@ fn fuzz_large_run() {
     let (n, bvh) = fuzz(0x5eed_0001, 10_000_000);
     let skipped = OUT_OF_RANGE.load(std::sync::atomic::Ordering::Relaxed);
     let within = DECIDED_WITHIN_ERROR.load(std::sync::atomic::Ordering::Relaxed);
-    println!("{n} cases per entry point, {bvh} BVH rays: clean ({within} answers differ from brute force within the t error bound); {skipped} hits outside the documented range (underflow) not oracle-checked");
+    println!("{n} cases per entry point, {bvh} BVH rays: clean ({within} answers differ from brute force within the t error bound); {skipped} hits outside the documented range (underflow) not oracle-checked; {}", trees());
 }

@@ -10,6 +10,7 @@ pub mod camera;
 pub mod icosphere;
 pub mod mesh;
 pub mod oracle;
+pub mod spawn;
 pub mod strategies;
 pub mod trees;
 
