@@ -610,16 +610,21 @@ fn run_tree(rng: &mut Rng) {
     use octoray::bvh::{Bvh8Ref, MAX_DEPTH};
     use std::sync::atomic::Ordering::Relaxed;
     use testkit::trees::{
-        chain, craft, shared_chain, take_leaf_tests, triangles, Counting, Slices,
+        bushy_chain, chain, craft, shared_chain, take_leaf_tests, triangles, Counting, Slices,
     };
     let n = 1 + rng.below(150) as usize;
     let tris = triangles(rng, n);
     // The starting tree, and whether it is valid as it is.
     let (mut t, valid) = match rng.below(16) {
         0 => (shared_chain(2 + rng.below(70) as usize), false),
-        1 => {
+        1 | 2 => {
             let depth = MAX_DEPTH - 1 + rng.below(3) as usize;
-            (chain(depth), depth <= MAX_DEPTH)
+            let t = if rng.below(2) == 0 {
+                chain(depth)
+            } else {
+                bushy_chain(depth)
+            };
+            (t, depth <= MAX_DEPTH)
         }
         _ => (Slices::of(&Bvh8::build(&tris), n), true),
     };

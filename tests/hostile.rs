@@ -537,6 +537,44 @@ mod untrusted_trees {
     }
 
     #[test]
+    fn the_fullest_stack_a_tree_of_the_depth_limit_allows_is_walked_without_a_panic() {
+        use octoray::bvh::traverse::{closest_t_packet, occluded_packet};
+        use octoray::packet::{f32x16, f32x4};
+        use octoray::LaneMask;
+        use octoray_testkit::trees::bushy_chain;
+        let t = bushy_chain(MAX_DEPTH);
+        assert_eq!(t.nodes.len(), 8 * (MAX_DEPTH - 1) + 1);
+        let bvh = validate(&t).expect("a bushy chain at the depth limit");
+        let ray = Ray::new(Vec3::new(0.1, 0.1, -5.0), Vec3::Z);
+        assert_eq!(
+            closest_ray::<f32x8, Watertight>(bvh, &ray).map(|h| h.prim),
+            Some(0)
+        );
+        assert!(occluded_ray::<f32x8, Watertight>(bvh, &ray));
+        let rays = [ray; 16];
+        assert_eq!(
+            closest_packet::<f32x16, Watertight>(bvh, &RayLanes::load(&rays))
+                .mask
+                .bitmask(),
+            0xffff
+        );
+        assert_eq!(
+            closest_t_packet::<f32x4, Watertight>(bvh, &RayLanes::load(&rays[..4]))
+                .0
+                .bitmask(),
+            0xf
+        );
+        assert_eq!(
+            occluded_packet::<f32x8, Watertight>(bvh, &RayLanes::load(&rays[..8])).bitmask(),
+            0xff
+        );
+        assert_eq!(
+            validate(&bushy_chain(MAX_DEPTH + 1)).unwrap_err(),
+            BvhError::TooDeep
+        );
+    }
+
+    #[test]
     fn nodes_out_of_build_order_or_unreached_are_rejected() {
         let tris = triangles(&mut Rng(7), 300);
         let tree = Bvh8::build(&tris);

@@ -128,6 +128,27 @@ pub fn chain(n: usize) -> Slices {
     }
 }
 
+/// A chain of `depth` nodes, each with eight inner children entered by every ray near the
+/// origin (boxes [−10, 10]³): seven empty nodes and, in the last slot, the next link; the last
+/// link holds a leaf of one triangle. In build order. Every ray walks it with the fullest stack
+/// a tree of that depth allows.
+pub fn bushy_chain(depth: usize) -> Slices {
+    let mut t = chain(1);
+    let leaf = t.nodes[0];
+    t.nodes.clear();
+    for k in 0..depth.saturating_sub(1) {
+        let mut node = Bvh8Node::EMPTY;
+        for s in 0..WIDTH {
+            set_box(&mut node, s, 10.0);
+            (node.child[s], node.count[s]) = ((WIDTH * k + s + 1) as u32, 0);
+        }
+        t.nodes.push(node);
+        t.nodes.extend([Bvh8Node::EMPTY; WIDTH - 1]);
+    }
+    t.nodes.push(leaf);
+    t
+}
+
 /// The inner slots of a tree: (node, slot).
 fn inner_slots(t: &Slices) -> Vec<(usize, usize)> {
     let mut v = vec![];

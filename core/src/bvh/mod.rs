@@ -7,6 +7,17 @@
 //!   SoA blocks of [`BLOCK`], their indices in the caller's slice). Traversal needs nothing
 //!   else: no allocator, no `std`. A tree built on a host can be written out with `bytemuck`
 //!   and traversed on a target from `&'static` data, after [`Bvh8Ref::new`] has validated it.
+//!
+//! # Untrusted trees
+//! [`Bvh8Ref::new`] takes any bytes: it answers `Ok` or a [`BvhError`], never panics, in time
+//! linear in the slices' length and without an allocator. A tree it accepts is a tree (every
+//! node but the root has exactly one parent; no node is shared, none is unreachable), no deeper
+//! than [`MAX_DEPTH`], whose leaves cover the blocks once and hold indices below the caller's
+//! primitive count. On such a tree every query of [`traverse`] runs without panicking or
+//! indexing out of bounds, visits each node and tests each primitive at most once per ray, and
+//! reports only primitive indices below [`Bvh8Ref::prims`]. The boxes are not checked against
+//! the primitives: a tree with wrong boxes gives wrong answers (only the built or faithfully
+//! stored tree equals brute force), never a crash or a long walk.
 //! - Traversal ([`traverse`]): single rays (one ray against the eight children of a node in one
 //!   `f32x8` box test; leaves tested a block at a time, one vector load per word) and packets
 //!   (the packet's active mask goes down the tree together; a packet that thins out continues

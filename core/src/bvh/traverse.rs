@@ -8,7 +8,10 @@
 //!
 //! Every answer equals the brute-force query of [`crate::query`] over the caller's slice (see the
 //! [module contract](super)): same hit/miss, same `t`, `u`, `v` bits, same primitive index
-//! (ties in `t` go to the lower index).
+//! (ties in `t` go to the lower index). On any tree [`Bvh8Ref::new`] accepted, built or read
+//! from untrusted bytes, every call here is total: no panic (but the documented length checks
+//! of [`closest`] and [`occluded`]), each node visited and each primitive tested at most once per
+//! ray, and every reported `prim` below [`Bvh8Ref::prims`] ([untrusted trees](super#untrusted-trees)).
 
 use super::slab::{extreme_lane, loosen, slab, slab_planes, BoxRay, Frustum};
 use super::{Bvh8Ref, STACK, WIDTH};
