@@ -1,5 +1,6 @@
 //! Criterion benchmarks of scene-scale traversal (the scene report's rows as criterion groups):
-//! BVH build, and closest and any hit through it for 8-ray packets and single rays, on Sponza
+//! BVH build, the validation of its slices as untrusted data (`Bvh8Ref::new`, and of crafted
+//! hostile trees), and closest and any hit through it for 8-ray packets and single rays, on Sponza
 //! (found through `cargo metadata`; skipped with a message when it cannot be found) and a
 //! generated 1 M-triangle sphere. `Throughput::Elements` = rays, so criterion prints rays/s.
 //! The full-frame figures and the peers are in `benches/scenes.md` (`--bin scenes`).
@@ -8,12 +9,13 @@
 #![allow(missing_docs)]
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use octoray::bvh::Bvh8;
+use octoray::bvh::{Bvh8, Bvh8Ref, MAX_DEPTH};
 use octoray::kernels::Watertight;
-use octoray::Ray;
+use octoray::{Ray, VertexTriangle};
 use octoray_benches::scenes::{
     jittered_sphere, packets_closest, singles_any, singles_closest, sponza, SceneSet,
 };
+use octoray_testkit::trees::{bushy_chain, shared_chain};
 use std::hint::black_box;
 use std::time::Duration;
 use wide::f32x8;
@@ -35,6 +37,17 @@ fn scene(c: &mut Criterion, s: &SceneSet) {
     g.finish();
 
     let bvh = Bvh8::build(&verts);
+    let mut g = c.benchmark_group(format!("bvh_validate_{}", s.name.replace(' ', "_")));
+    g.throughput(Throughput::Bytes(
+        (std::mem::size_of_val(bvh.nodes()) + std::mem::size_of_val(bvh.ids())) as u64,
+    ));
+    g.bench_function("bvh8ref_new", |b| {
+        b.iter(|| {
+            Bvh8Ref::<VertexTriangle>::new(bvh.nodes(), bvh.blocks(), bvh.ids(), verts.len())
+                .is_ok()
+        })
+    });
+    g.finish();
     let r = bvh.as_ref();
     let all = s.primary_tiled(1024, 768, 4, 2);
     let primary: Vec<Ray> = all[all.len() / 2..all.len() / 2 + 16_384].to_vec();
@@ -57,7 +70,26 @@ fn scene(c: &mut Criterion, s: &SceneSet) {
     g.finish();
 }
 
+/// Validation of crafted trees: the exponential shared chain (64 nodes, 16 KiB, rejected) and the
+/// bushy chain at the depth limit (505 nodes, accepted).
+fn crafted(c: &mut Criterion) {
+    let mut g = c.benchmark_group("bvh_validate_crafted");
+    for (name, t) in [
+        ("shared_chain_64", shared_chain(64)),
+        ("bushy_chain_64", bushy_chain(MAX_DEPTH)),
+    ] {
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                Bvh8Ref::<VertexTriangle>::new(black_box(&t.nodes), &t.blocks, &t.ids, t.prims)
+                    .is_ok()
+            })
+        });
+    }
+    g.finish();
+}
+
 fn scenes(c: &mut Criterion) {
+    crafted(c);
     match sponza() {
         Ok(s) => scene(c, &s),
         Err(e) => eprintln!("Sponza skipped: {e}"),
