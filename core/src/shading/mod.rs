@@ -33,10 +33,10 @@ pub struct Surface {
 
 impl Surface {
     /// Surface data from a hit point, its error bound and a geometric normal (any length, any
-    /// orientation, any finite magnitude): the normal is normalised ([`unit`]) and turned to face
+    /// orientation, any finite magnitude): the normal is normalised ([`unit_vector`]) and turned to face
     /// `ray`.
     pub fn new(ray: &Ray, point: Vec3, error: Vec3, normal: Vec3) -> Self {
-        Self::facing(ray, point, error, unit(normal.as_dvec3()))
+        Self::facing(ray, point, error, unit_vector(normal.as_dvec3()))
     }
 
     /// [`Surface::new`] with the normal already of unit length (or zero).
@@ -75,7 +75,7 @@ impl Surface {
 /// `v / |v|` rounded to f32, or zero when `v` is zero or not finite. In f64: the squared length
 /// of any vector of f32-range components (or of products of two, as a cross product of f32 edges)
 /// is a normal f64, where in f32 it overflows past ~1.8e19 and underflows below ~1e-19.
-pub fn unit(v: DVec3) -> Vec3 {
+pub fn unit_vector(v: DVec3) -> Vec3 {
     let len = v.length();
     if !(len > 0.0 && len.is_finite()) {
         return Vec3::ZERO;
@@ -95,7 +95,7 @@ impl Shade for VertexTriangle {
         let (p, err) = offset::triangle_hit_point(self, hit.u, hit.v);
         // The edges and their cross product in f64: no f32 overflow or underflow at any scale.
         let [v0, v1, v2] = self.vertices().map(|v| v.as_dvec3());
-        Surface::facing(ray, p, err, unit((v1 - v0).cross(v2 - v0)))
+        Surface::facing(ray, p, err, unit_vector((v1 - v0).cross(v2 - v0)))
     }
 }
 
@@ -123,6 +123,6 @@ impl Shade for PackedSphere {
 impl Shade for Sphere {
     fn surface(&self, ray: &Ray, hit: &Hit) -> Surface {
         let (p, err, outward) = offset::sphere_hit(ray, hit.t, self.center, self.radius);
-        Surface::facing(ray, p, err, unit(outward))
+        Surface::facing(ray, p, err, unit_vector(outward))
     }
 }

@@ -105,7 +105,7 @@ fn next_down(x: f32) -> f32 {
 ///
 /// Returns `p` unchanged when `n` is zero or not finite (there is no side to pick).
 pub fn offset_ray_origin(p: Vec3, p_error: Vec3, n: Vec3, w: Vec3) -> Vec3 {
-    let n = super::unit(n.as_dvec3());
+    let n = super::unit_vector(n.as_dvec3());
     if n == Vec3::ZERO {
         return p;
     }
