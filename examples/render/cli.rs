@@ -149,7 +149,6 @@ fn load_mesh(path: &std::path::Path) -> Result<(Vec<[f32; 3]>, Vec<u32>), String
         single_index: true,
         ignore_points: true,
         ignore_lines: true,
-        ..Default::default()
     };
     let (models, _) = tobj::load_obj(path, &opts)
         .map_err(|e| format!("cannot read {} as OBJ: {e}", path.display()))?;
