@@ -12,13 +12,20 @@ fn main() {
     let bvh = Bvh8::build(&tris);
 
     let ray = Ray::new(Vec3::new(0.25, 0.75, 1.0), -Vec3::Z);
-    println!("one ray: {:?}", closest_ray::<f32x8, Watertight>(bvh.as_ref(), &ray));
+    println!(
+        "one ray: {:?}",
+        closest_ray::<f32x8, Watertight>(bvh.as_ref(), &ray)
+    );
 
     let rays: Vec<Ray> = (0..8)
         .map(|i| Ray::new(Vec3::new(i as f32 * 0.2, 0.5, 1.0), -Vec3::Z))
         .collect();
     let hits = closest_packet::<f32x8, Watertight>(bvh.as_ref(), &RayLanes::load(&rays));
     for (i, r) in rays.iter().enumerate() {
-        println!("packet lane {i} from x = {:.1}: {:?}", r.origin.x, hits.lane(i));
+        println!(
+            "packet lane {i} from x = {:.1}: {:?}",
+            r.origin.x,
+            hits.lane(i)
+        );
     }
 }

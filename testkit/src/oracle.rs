@@ -60,6 +60,16 @@ impl Grid {
         let (m, ex) = decompose(x).expect("finite");
         BigInt::from(m) << ((ex - power * self.e) as usize)
     }
+    /// An integer of this grid raised to `power` (a product of `power` values) as a real, to
+    /// f64 precision.
+    fn real(&self, x: &BigInt, power: i32) -> f64 {
+        let shift = (x.bits() as i64 - 60).max(0);
+        let top = (x >> shift as usize).to_f64().unwrap_or(f64::NAN);
+        libm::scalbn(
+            top,
+            (shift + i64::from(power * self.e)).clamp(-4000, 4000) as i32,
+        )
+    }
     fn v(&self, v: Vec3) -> [BigInt; 3] {
         [self.int(v.x, 1), self.int(v.y, 1), self.int(v.z, 1)]
     }
@@ -177,6 +187,9 @@ pub struct TriangleTruth {
     pub bary: [f64; 3],
     /// t to f64 precision.
     pub t: f64,
+    /// The signed volumes `wᵢ = d·((v_j − o) × (v_k − o))` themselves (not over their sum), to
+    /// f64 precision: what the watertight tiers' 2D edge functions are, times `d[kz]`.
+    pub volumes: [f64; 3],
     num: BigInt,
     den: BigInt,
 }
@@ -223,6 +236,7 @@ fn triangle_impl(ray: &Ray, v: [Vec3; 3], packed: bool) -> TriangleTruth {
         hit: false,
         bary: [f64::NAN; 3],
         t: f64::NAN,
+        volumes: [f64::NAN; 3],
         num: BigInt::zero(),
         den: BigInt::from(1),
     };
@@ -280,6 +294,7 @@ fn triangle_impl(ray: &Ray, v: [Vec3; 3], packed: bool) -> TriangleTruth {
             ratio_f64(&w[2], &sum),
         ],
         t: ratio_f64(&num, &den),
+        volumes: w.each_ref().map(|x| g.real(x, 3)),
         num,
         den,
     }
