@@ -1,4 +1,4 @@
-//! The hostile-input fuzz harness (issue 13): seeded random cases with NaN, ±inf, ±0, subnormal,
+//! The hostile-input fuzz harness: seeded random cases with NaN, ±inf, ±0, subnormal,
 //! 1e38 and `f32::MAX` values mixed into otherwise scene-like geometry, through every public entry
 //! point — every triangle and sphere tier at widths 1/4/8/16 (f32) and 4 (f64), the three query
 //! kinds, the packet crate's batch calls, ingest, the spawn helpers, the recommender, and BVH

@@ -1,4 +1,4 @@
-//! Regression tests for hostile-input findings (issue 13): each failed before its fix.
+//! Regression tests for hostile-input findings: each failed before its fix.
 #![cfg(feature = "triangle")]
 
 use octoray::glam::Vec3;
@@ -197,8 +197,8 @@ fn sphere_hit_point_is_finite_when_o_plus_t_d_overflows_f32() {
 }
 
 #[test]
-fn watertight_keeps_the_thin_triangle_hit_of_issue_11() {
-    // Issue 11's reproducer: an exact hit at t ≈ 0.9995, far in front of the origin, that the
+fn watertight_keeps_the_thin_triangle_hit_of_the_reproducer() {
+    // The thin-triangle reproducer: an exact hit at t ≈ 0.9995, far in front of the origin, that the
     // f32 watertight tier rejected because neither "provably in front" condition held.
     use octoray::intersect;
     let v = Vec3::new;

@@ -1,4 +1,4 @@
-//! Issue 13, finding 7: the `*_vec` ingest forms allocated their output before validating the
+//! The `*_vec` ingest forms allocated their output before validating the
 //! input (300 000 001 indices: 11 s and 3.5 GB before `IndicesNotTriangles`). With a memory cap
 //! just above what the input itself takes, a bad mesh must be rejected without allocating.
 #![cfg(all(feature = "triangle", feature = "alloc"))]

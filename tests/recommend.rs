@@ -112,7 +112,7 @@ fn features_lost_to_f32_input_quantization_are_reported_not_promised() {
 
 #[test]
 fn closed_meshes_far_from_the_origin_get_a_watertight_tier_at_f64() {
-    // Issue 11: a closed mesh at 1e6 with a budget of 8e-3 was answered "F64" (the standard
+    // A closed mesh at 1e6 with a budget of 8e-3 was answered "F64" (the standard
     // kernel at f64, which leaks ~1 % of crack rays).
     for (at, feature, budget) in [
         (1e6f32, 8.0f32, 8e-3f32),
@@ -169,7 +169,7 @@ fn invalid_scene_descriptions_are_errors() {
 
 #[test]
 fn no_error_budget_gets_the_exact_tier_at_every_scale() {
-    // "Closed meshes, no error budget to spend" (issue 11): the exact tier, near the origin and
+    // "Closed meshes, no error budget to spend": the exact tier, near the origin and
     // far from it, and it hits each scene's extreme case, including coordinates beyond the
     // watertight tier's range (1e20) and below f32's products (1e-25).
     for (at, size) in [

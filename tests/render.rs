@@ -181,7 +181,7 @@ const TETRA_FACES: &str = "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
 
 #[test]
 fn meshes_that_cannot_be_placed_are_errors_and_extreme_ones_are_placed() {
-    // Issue 13, finding 4: these rendered as an empty picture with exit 0.
+    // These rendered as an empty picture with exit 0.
     for (name, verts) in [
         ("inf.obj", "v 0 0 0\nv inf 0 0\nv 0 1 0\nv 0 0 1\n"),
         ("nan-last.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 nan\n"),
@@ -217,7 +217,7 @@ fn meshes_that_cannot_be_placed_are_errors_and_extreme_ones_are_placed() {
 
 #[test]
 fn degenerate_faces_are_counted_and_left_out_of_the_tier_estimate() {
-    // Issue 13, finding 5: one `f 1 1 2` made the smallest feature 0, so auto picked f64 and
+    // One `f 1 1 2` made the smallest feature 0, so auto picked f64 and
     // `--tier auto --lanes 16` failed.
     let text = format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n{TETRA_FACES}f 1 1 2\n");
     let sc = cli::load_scene(&Some(obj("degenerate.obj", &text))).unwrap();
@@ -229,7 +229,7 @@ fn degenerate_faces_are_counted_and_left_out_of_the_tier_estimate() {
 
 #[test]
 fn the_output_is_checked_before_tracing_and_never_overwrites_the_input() {
-    // Issue 13, finding 6.
+    // The output is opened before tracing and never the input.
     let args = |s: String| s.split_whitespace().map(String::from).collect::<Vec<_>>();
     let mesh = obj(
         "keep.obj",

@@ -59,7 +59,7 @@ fn f64_watertight_tier_has_no_cracks_and_exact_zero_signs() {
     use octoray::{LaneMask, RayLanes, Scalar};
     use testkit::mesh::crack_suite_with;
     use wide::f64x4;
-    // The crack suite at f64 lanes (issue 11): zero escapes.
+    // The crack suite at f64 lanes: zero escapes.
     let rows = crack_suite_with(2_500, |tris, rays| {
         rays.chunks(4)
             .map(|c| {
@@ -81,7 +81,7 @@ fn f64_watertight_tier_has_no_cracks_and_exact_zero_signs() {
     assert_eq!(d(1.0 + e, 1.0 + e, 1.0, 1.0 + 2.0 * e).signum(), 1.0); // ε² > 0
 }
 
-/// Issue 11's families (`testkit::mesh::thin_crack_meshes`): closed meshes of long thin triangles (aspect up to ~10⁴), stretched
+/// The thin-triangle families (`testkit::mesh::thin_crack_meshes`): closed meshes of long thin triangles (aspect up to ~10⁴), stretched
 /// 300:1 to 1000:1 and offset to ~1e3, 2×10⁴ rays from inside each aimed at vertices, edges,
 /// interiors and anywhere (10⁵ in all). The watertight tier lets none escape, by brute force
 /// and through the BVH; the standard tier's escapes are printed.

@@ -1,6 +1,6 @@
 //! The packet crate's own tests: every tier reachable at every width through its batch calls,
 //! agreeing with the scalar twin; the scene calls agreeing with the slice calls; and the API
-//! traps of issue 12 (lane bounds, length mismatches).
+//! traps (lane bounds, length mismatches).
 #![cfg(all(feature = "triangle", feature = "sphere", feature = "alloc"))]
 
 use octoray_core::glam::Vec3;
@@ -133,7 +133,7 @@ fn scene_calls_equal_slice_calls() {
 
 #[test]
 fn lane_past_the_width_is_none_not_lane_zero() {
-    // Issue 12: lane(32) of a one-lane result used to return lane 0's hit in release builds.
+    // lane(32) of a one-lane result used to return lane 0's hit in release builds.
     let t = tris();
     let packed: Vec<PackedTriangle> = t
         .iter()

@@ -262,7 +262,7 @@ impl Mesh {
     }
 }
 
-/// Closed meshes of long, thin triangles (issue 11's families): an icosphere stretched 1000:1
+/// Closed meshes of long, thin triangles: an icosphere stretched 1000:1
 /// along x, at the origin and offset to about 1e3 (like the reproducer's mesh); one stretched
 /// 300:1 along z; a cube grid stretched 1000:1 along y and offset; a 48-sided tube 2000 long
 /// of radius 1 (aspect ≈ 2·10⁴), offset. `rays_per_mesh` rays from inside each (origins within

@@ -231,7 +231,7 @@ fn accuracy_cases() -> Vec<TriCase> {
     cases
 }
 
-/// Escapes from inside issue 11's closed meshes of long thin triangles, per cent.
+/// Escapes from inside the closed meshes of long thin triangles (`testkit::mesh::thin_crack_meshes`), per cent.
 fn thin_crack_rate(row: &Row) -> f64 {
     let (mut rays_total, mut escapes) = (0, 0);
     for (_, mesh, rays) in thin_crack_meshes(2_000) {
@@ -689,7 +689,7 @@ fn main() {
     .unwrap();
     writeln!(md, "closest hit. Accuracy over 20 000 cases (random, aimed at edges and vertices, grazing 1e-3 and 1e-5 rad,").unwrap();
     writeln!(md, "translated 1e4) against the exact oracle; cracks: 25 000 rays from inside two closed jittered meshes;").unwrap();
-    writeln!(md, "thin cracks: 10 000 rays from inside five closed meshes of long thin triangles (issue 11's families).").unwrap();
+    writeln!(md, "thin cracks: 10 000 rays from inside five closed meshes of long thin triangles (stretched icospheres, a stretched cube grid, a thin tube).").unwrap();
     writeln!(md, "Regenerate: `cargo run --release -p octoray-benches --bin tradeoff`. ns/test: the best of three rounds (each in a fresh process) of best-of-7 runs; this shared VM shows ±50 % bursts between runs, so compare rows of one run.").unwrap();
     if results.iter().any(|r| matches!(r.cycles, Some((_, false)))) {
         writeln!(md, "\"est.\": perf's cycle counter is not exposed on this machine; cycles = ns × the nominal {:.2} GHz.", nominal_ghz().unwrap_or(0.0)).unwrap();

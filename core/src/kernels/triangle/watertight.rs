@@ -16,7 +16,7 @@
 //!   distant triangles) and, on the lanes neither certificate decides, decided with
 //!   exact arithmetic ([`crate::kernels::triangle::exact::ExactPlane`], lane by lane, rare): a
 //!   hit just in front of `t_min` is never lost, one just behind is never reported, for every
-//!   finite input (oracle-tested; issue 11's thin-triangle reproducer is `tests/hostile.rs`).
+//!   finite input (oracle-tested; the thin-triangle reproducer is in `tests/hostile.rs`).
 //!   The `t_max` side compares the rounded `t`, as the standard tier does and as closest-hit
 //!   queries order hits, so a hit reported at `t` stays a hit for every `t_max` a little above
 //!   it ([`crate::Kernel::EXACT_T_MAX`]); the exact tier ([`crate::kernels::Exact`]) decides
