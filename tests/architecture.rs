@@ -1,5 +1,5 @@
 //! The tree is the architecture: `octoray-core`'s modules are layers, and each imports only from
-//! the layers below it (README, "Architecture"). This test reads the sources and fails on an
+//! the layers below it (docs/architecture.md). This test reads the sources and fails on an
 //! import that goes up or sideways, so a cycle cannot creep back in.
 
 use octoray_testkit::rust_files;

@@ -15,14 +15,14 @@ fn root() -> PathBuf {
 #[test]
 fn readme_table_is_the_report() {
     let md = std::fs::read_to_string(report::path()).expect("tradeoff.md");
-    let readme = std::fs::read_to_string(root().join("README.md")).expect("README");
+    let doc = std::fs::read_to_string(root().join("docs/speed.md")).expect("docs/speed.md");
     let (start, end) = ("<!-- tradeoff:start -->\n", "<!-- tradeoff:end -->");
-    let a = readme.find(start).expect("README has the start marker") + start.len();
-    let b = readme.find(end).expect("README has the end marker");
+    let a = doc.find(start).expect("docs/speed.md has the start marker") + start.len();
+    let b = doc.find(end).expect("docs/speed.md has the end marker");
     assert_eq!(
-        &readme[a..b],
+        &doc[a..b],
         md,
-        "README's table differs from benches/tradeoff.md: rerun the report"
+        "docs/speed.md's table differs from benches/tradeoff.md: rerun the report"
     );
 }
 
@@ -33,24 +33,26 @@ fn readme_scene_rows_are_the_scene_report() {
     let md = std::fs::read_to_string(root().join("benches/scenes.md")).expect("scenes.md");
     let sponza = &md[md.find("### Sponza").expect("Sponza section")..];
     let sponza = &sponza[..sponza.find("\n### ").unwrap_or(sponza.len())];
-    let readme = std::fs::read_to_string(root().join("README.md")).expect("README");
-    let (start, end) = ("<!-- scenes:begin -->\n", "<!-- scenes:end -->");
-    let a = readme
-        .find(start)
-        .expect("README has the scenes start marker")
-        + start.len();
-    let b = readme.find(end).expect("README has the scenes end marker");
-    let rows: Vec<&str> = readme[a..b].lines().skip(2).collect();
-    assert!(
-        rows.len() >= 8,
-        "the README's scene table has {} rows",
-        rows.len()
-    );
-    for row in rows {
+    for file in ["README.md", "docs/scenes.md"] {
+        let text = std::fs::read_to_string(root().join(file)).expect("read");
+        let (start, end) = ("<!-- scenes:begin -->\n", "<!-- scenes:end -->");
+        let a = text
+            .find(start)
+            .unwrap_or_else(|| panic!("{file} has the scenes start marker"))
+            + start.len();
+        let b = text.find(end).expect("the scenes end marker");
+        let rows: Vec<&str> = text[a..b].lines().skip(2).collect();
         assert!(
-            sponza.lines().any(|l| l == row),
-            "README scene row not in benches/scenes.md's Sponza section (rerun and copy): {row}"
+            rows.len() >= 8,
+            "{file}'s scene table has {} rows",
+            rows.len()
         );
+        for row in rows {
+            assert!(
+                sponza.lines().any(|l| l == row),
+                "{file}: scene row not in benches/scenes.md's Sponza section (rerun and copy): {row}"
+            );
+        }
     }
 }
 
@@ -62,6 +64,14 @@ fn quoted_figures_equal_the_report() {
         root().join("core/README.md"),
         root().join("packet/README.md"),
     ];
+    let mut docs: Vec<PathBuf> = std::fs::read_dir(root().join("docs"))
+        .expect("docs/")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "md"))
+        .collect();
+    docs.sort();
+    assert!(docs.len() >= 5, "{docs:?}");
+    files.extend(docs);
     for dir in ["core/src", "packet/src", "src"] {
         files.extend(rust_files(&root().join(dir)));
     }

@@ -5,7 +5,7 @@
 //! Run: `cargo run --release -p octoray-benches --bin tradeoff` (add
 //! `RUSTFLAGS="-C target-cpu=native"` for the native figures; the report names the flags).
 //! Cycles come from `perf stat -e cycles` around this same binary run in `--cycles` mode. Where
-//! perf or the hardware counter is unavailable (as in the VM these figures were made on), the
+//! perf or the hardware counter is unavailable (as on the machine these figures were made on), the
 //! column is ns × the nominal clock from /proc/cpuinfo and is marked "est.".
 
 use octoray_testkit as testkit;
@@ -242,7 +242,7 @@ fn thin_crack_rate(row: &Row) -> f64 {
 }
 
 /// Speed rounds: ns/test per speed entry, one map per round, each measured by a fresh process of
-/// this binary (`--speed`). On this VM a process's memory layout can slow one kernel by ~60 %
+/// this binary (`--speed`). On a shared machine a process's memory layout can slow one kernel by ~60 %
 /// for that whole process (seen on `standard x16` in about one run in six, old and new code
 /// alike), so rounds inside one process are not independent; separate processes are.
 struct Rounds(Vec<HashMap<String, f64>>);
@@ -690,7 +690,7 @@ fn main() {
     writeln!(md, "closest hit. Accuracy over 20 000 cases (random, aimed at edges and vertices, grazing 1e-3 and 1e-5 rad,").unwrap();
     writeln!(md, "translated 1e4) against the exact oracle; cracks: 25 000 rays from inside two closed jittered meshes;").unwrap();
     writeln!(md, "thin cracks: 10 000 rays from inside five closed meshes of long thin triangles (stretched icospheres, a stretched cube grid, a thin tube).").unwrap();
-    writeln!(md, "Regenerate: `cargo run --release -p octoray-benches --bin tradeoff`. ns/test: the best of three rounds (each in a fresh process) of best-of-7 runs; this shared VM shows ±50 % bursts between runs, so compare rows of one run.").unwrap();
+    writeln!(md, "Regenerate: `cargo run --release -p octoray-benches --bin tradeoff`. ns/test: the best of three rounds (each in a fresh process) of best-of-7 runs; this shared machine shows ±50 % bursts between runs, so compare rows of one run.").unwrap();
     if results.iter().any(|r| matches!(r.cycles, Some((_, false)))) {
         writeln!(md, "\"est.\": perf's cycle counter is not exposed on this machine; cycles = ns × the nominal {:.2} GHz.", nominal_ghz().unwrap_or(0.0)).unwrap();
     }
