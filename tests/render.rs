@@ -331,3 +331,52 @@ fn a_png_that_cannot_be_written_is_an_error_at_every_size() {
     assert_eq!(&bytes[1..4], b"PNG");
     assert_eq!(&bytes[bytes.len() - 8..bytes.len() - 4], b"IEND");
 }
+
+#[test]
+fn ambient_occlusion_darkens_the_ground_next_to_the_spheres_and_nothing_else_changes() {
+    let mut s = Scene::default_scene();
+    let flat = render(&s, TierArg::Standard, 8, W, H, &|_| {}).unwrap();
+    s.ao_samples = 32;
+    let ao = render(&s, TierArg::Standard, 8, W, H, &|_| {}).unwrap();
+    // The same pixels are hit and shadowed; only the ambient term changed, and more rays ran.
+    assert!(flat.kinds.iter().zip(&ao.kinds).all(|(a, b)| a == b));
+    assert!(
+        ao.rays > flat.rays + 20 * (W * H) as u64 / 4,
+        "{} vs {}",
+        ao.rays,
+        flat.rays
+    );
+    let lit_ground: Vec<(u32, u32)> = (0..H)
+        .flat_map(|y| (0..W).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            matches!(
+                flat.kinds[(y * W + x) as usize],
+                PixelKind::Ground { shadowed: false }
+            )
+        })
+        .collect();
+    assert!(lit_ground.len() > 1000, "{}", lit_ground.len());
+    // Without ambient occlusion every lit ground pixel has the same colour (a flat plane).
+    let l0 = luminance(&flat, lit_ground[0]);
+    assert!(lit_ground.iter().all(|&p| luminance(&flat, p) == l0));
+    // With it, the darkest lit ground pixel lies next to a sphere's contact point.
+    let (&darkest, &brightest) = (
+        lit_ground
+            .iter()
+            .min_by_key(|&&p| luminance(&ao, p))
+            .unwrap(),
+        lit_ground
+            .iter()
+            .max_by_key(|&&p| luminance(&ao, p))
+            .unwrap(),
+    );
+    assert!(luminance(&ao, darkest) * 10 < luminance(&ao, brightest) * 9);
+    let near_contact = s.spheres.iter().any(|&(c, r)| {
+        s.project(Vec3::new(c.x, 0.0, c.z), W, H)
+            .is_some_and(|(x, y)| {
+                let d = (x as f32 - darkest.0 as f32).hypot(y as f32 - darkest.1 as f32);
+                d <= 0.25 * W as f32 * r
+            })
+    });
+    assert!(near_contact, "darkest lit ground pixel {darkest:?}");
+}

@@ -5,7 +5,7 @@ use crate::scene::{Scene, TierArg};
 use octoray::glam::Vec3;
 use std::path::PathBuf;
 
-pub const USAGE: &str = "usage: render [--size WxH] [--output PATH] [--tier auto|standard|watertight|exact|f64|watertight-f64] [--lanes 4|8|16] [--obj PATH] [--camera X,Y,Z] [--look-at X,Y,Z] [--fov DEGREES]\n  --obj alone fits the mesh into the default scene; with --camera the mesh stays where it is (no ground quad) and the camera looks from X,Y,Z";
+pub const USAGE: &str = "usage: render [--size WxH] [--output PATH] [--tier auto|standard|watertight|exact|f64|watertight-f64] [--lanes 4|8|16] [--obj PATH] [--camera X,Y,Z] [--look-at X,Y,Z] [--fov DEGREES] [--ao N]\n  --obj alone fits the mesh into the default scene; with --camera the mesh stays where it is (no ground quad) and the camera looks from X,Y,Z\n  --ao N: N ambient-occlusion rays per pixel (0..=256; 0, the default, shades with a constant ambient term)";
 
 pub struct Options {
     pub width: u32,
@@ -20,6 +20,8 @@ pub struct Options {
     pub look_at: Option<Vec3>,
     /// Vertical field of view, degrees.
     pub fov: Option<f32>,
+    /// Ambient-occlusion rays per pixel.
+    pub ao: u32,
 }
 
 /// Parses `X,Y,Z` (finite).
@@ -50,6 +52,7 @@ pub fn parse(args: &[String]) -> Result<Options, String> {
         camera: None,
         look_at: None,
         fov: None,
+        ao: 0,
     };
     let mut it = args.iter();
     while let Some(a) = it.next() {
@@ -88,6 +91,14 @@ pub fn parse(args: &[String]) -> Result<Options, String> {
             "--obj" => o.obj = Some(value("--obj")?.into()),
             "--camera" => o.camera = Some(parse_vec3("--camera", &value("--camera")?)?),
             "--look-at" => o.look_at = Some(parse_vec3("--look-at", &value("--look-at")?)?),
+            "--ao" => {
+                let v = value("--ao")?;
+                o.ao = v
+                    .parse()
+                    .ok()
+                    .filter(|n| *n <= 256)
+                    .ok_or_else(|| format!("--ao: '{v}' is not a count of 0 to 256 rays"))?;
+            }
             "--fov" => {
                 let v = value("--fov")?;
                 let f: f32 = v.parse().map_err(|_| format!("--fov: bad angle '{v}'"))?;
@@ -126,6 +137,7 @@ pub fn scene_for(o: &Options) -> Result<Scene, String> {
     if let Some(f) = o.fov {
         s.fov = f.to_radians();
     }
+    s.ao_samples = o.ao;
     if s.eye == s.target {
         return Err("the camera is at the point it looks at; give --look-at".into());
     }

@@ -104,8 +104,13 @@ fn main() -> ExitCode {
         img.bvh.nodes, img.bvh.leaves, img.bvh.depth, img.bvh.sah_cost, img.bvh.bytes_per_prim, img.build_secs, rayon::current_num_threads()
     );
     println!(
-        "  rays traced  {} (primary and shadow) in {:.3} s: {:.2} Mrays/s on {} threads",
+        "  rays traced  {} (primary, shadow{}) in {:.3} s: {:.2} Mrays/s on {} threads",
         img.rays,
+        if scene.ao_samples > 0 {
+            format!(" and {} ambient-occlusion per pixel", scene.ao_samples)
+        } else {
+            String::new()
+        },
         img.trace_secs,
         img.rays as f64 / img.trace_secs / 1e6,
         rayon::current_num_threads()

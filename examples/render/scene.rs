@@ -66,6 +66,8 @@ pub struct Scene {
     pub fov: f32,
     /// Number of triangles of the mesh (the rest is the ground).
     pub mesh_tris: usize,
+    /// Ambient-occlusion rays per shaded pixel (0: a constant ambient term instead).
+    pub ao_samples: u32,
 }
 
 /// A deterministic jitter.
@@ -176,6 +178,7 @@ impl Scene {
             target: Vec3::new(0.0, 0.8, 0.0),
             fov: 0.75,
             mesh_tris,
+            ao_samples: 0,
         })
     }
 
@@ -296,6 +299,24 @@ fn sky(d: Vec3) -> Vec3 {
     Vec3::new(0.9, 0.93, 0.97) * (1.0 - t) + Vec3::new(0.45, 0.62, 0.9) * t
 }
 
+/// `n` directions per shading point, cosine-weighted about `normal` (deterministic: hashed from
+/// `seed`).
+fn cosine_directions(normal: Vec3, seed: u32, n: u32) -> impl Iterator<Item = Vec3> {
+    let t = if normal.x.abs() > 0.9 {
+        Vec3::Y
+    } else {
+        Vec3::X
+    };
+    let b1 = normal.cross(t).normalize();
+    let b2 = normal.cross(b1);
+    (0..n).map(move |s| {
+        let k = seed.wrapping_mul(2 * n).wrapping_add(2 * s);
+        let (u1, u2) = (hash(k) + 0.5, hash(k.wrapping_add(1)) + 0.5);
+        let (r, phi) = (u1.sqrt(), std::f32::consts::TAU * u2);
+        b1 * (r * phi.cos()) + b2 * (r * phi.sin()) + normal * (1.0 - u1).max(0.0).sqrt()
+    })
+}
+
 /// Renders with triangle kernel `K` and the stable sphere kernel at lane width `L`.
 fn render_with<L, K>(
     scene: &Scene,
@@ -319,6 +340,14 @@ where
     let bvh = tree.as_ref();
     let start = std::time::Instant::now();
     let rays = AtomicU64::new(0);
+    // Ambient-occlusion rays reach a tenth of the scene's box diagonal.
+    let ao_reach = {
+        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for p in scene.tris.iter().flatten() {
+            (lo, hi) = (lo.min(*p), hi.max(*p));
+        }
+        0.1 * (hi - lo).length()
+    };
     let rows: Vec<(Vec<u8>, Vec<PixelKind>)> = (0..h)
         .into_par_iter()
         .map(|y| {
@@ -341,6 +370,7 @@ where
             // Shading points and shadow rays towards the sun, from conservatively offset origins.
             let mut shade = vec![];
             let mut shadow = vec![];
+            let mut ao = vec![];
             for (ray, hit) in primary.iter().zip(&hits) {
                 let Some((h, is_sphere)) = *hit else { continue };
                 let surface = if is_sphere {
@@ -352,6 +382,12 @@ where
                 };
                 shade.push((surface.point, surface.normal));
                 shadow.push(Ray::new(surface.spawn(scene.light), scene.light));
+                // Ambient occlusion: short rays into the hemisphere, each from its own offset
+                // origin.
+                let seed = y.wrapping_mul(w).wrapping_add(shade.len() as u32);
+                for dir in cosine_directions(surface.normal, seed, scene.ao_samples) {
+                    ao.push(Ray::with_range(surface.spawn(dir), dir, 0.0, ao_reach));
+                }
             }
             let mut blocked_by_tri = vec![false; shadow.len()];
             let mut blocked_by_sphere = vec![false; shadow.len()];
@@ -362,7 +398,25 @@ where
                 .zip(&blocked_by_sphere)
                 .map(|(a, b)| !a && !b)
                 .collect();
-            rays.fetch_add((primary.len() + shadow.len()) as u64, Ordering::Relaxed);
+            // A shading point's share of ambient-occlusion rays that reach open space.
+            let mut ao_open = vec![1.0f32; shade.len()];
+            if scene.ao_samples > 0 {
+                let mut by_tri = vec![false; ao.len()];
+                let mut by_sphere = vec![false; ao.len()];
+                bvh::occluded::<L, K>(bvh, &ao, &mut by_tri);
+                packet::occluded::<L, StableSphere>(&ao, &prims.spheres, &mut by_sphere);
+                let n = scene.ao_samples as usize;
+                for (k, open) in ao_open.iter_mut().enumerate() {
+                    let blocked = (k * n..(k + 1) * n)
+                        .filter(|&i| by_tri[i] || by_sphere[i])
+                        .count();
+                    *open = 1.0 - blocked as f32 / n as f32;
+                }
+            }
+            rays.fetch_add(
+                (primary.len() + shadow.len() + ao.len()) as u64,
+                Ordering::Relaxed,
+            );
             let (mut rgb, mut kinds) = (
                 Vec::with_capacity(w as usize * 3),
                 Vec::with_capacity(w as usize),
@@ -373,7 +427,7 @@ where
                     None => (sky(ray.dir), PixelKind::Sky),
                     Some((h, is_sphere)) => {
                         let (_, n) = shade[k];
-                        let visible = lit[k];
+                        let (visible, open) = (lit[k], ao_open[k]);
                         k += 1;
                         let albedo = if is_sphere {
                             scene.sphere_color[h.prim as usize]
@@ -395,7 +449,14 @@ where
                         } else {
                             PixelKind::Ground { shadowed: !visible }
                         };
-                        (albedo * (0.18 + 0.82 * diffuse), kind)
+                        // Without ambient occlusion a constant ambient term; with it, a larger
+                        // sky term scaled by how open the hemisphere is.
+                        let light = if scene.ao_samples > 0 {
+                            0.4 * open + 0.6 * diffuse
+                        } else {
+                            0.18 + 0.82 * diffuse
+                        };
+                        (albedo * light, kind)
                     }
                 };
                 rgb.extend(
