@@ -14,7 +14,7 @@ use crate::prim::Ray;
 use crate::prim::{PackedSphere, Sphere};
 #[cfg(feature = "triangle")]
 use crate::prim::{PackedTriangle, VertexTriangle};
-use glam::{DVec3, Vec3};
+use glam::Vec3;
 use offset::offset_ray_origin;
 
 /// Surface data of a hit.
@@ -36,14 +36,14 @@ impl Surface {
     /// orientation, any finite magnitude): the normal is normalised ([`unit_vector`]) and turned to face
     /// `ray`.
     pub fn new(ray: &Ray, point: Vec3, error: Vec3, normal: Vec3) -> Self {
-        Self::facing(ray, point, error, unit_vector(normal.as_dvec3()))
+        Self::facing(ray, point, error, unit_vector(wide::of(normal)))
     }
 
     /// [`Surface::new`] with the normal already of unit length (or zero).
     fn facing(ray: &Ray, point: Vec3, error: Vec3, unit_normal: Vec3) -> Self {
         let mut n = unit_normal;
         // In f64: n·d of a huge direction could overflow f32.
-        if n.as_dvec3().dot(ray.dir.as_dvec3()) > 0.0 {
+        if wide::dot(wide::of(n), wide::of(ray.dir)) > 0.0 {
             n = -n;
         }
         Self {
@@ -75,12 +75,48 @@ impl Surface {
 /// `v / |v|` rounded to f32, or zero when `v` is zero or not finite. In f64: the squared length
 /// of any vector of f32-range components (or of products of two, as a cross product of f32 edges)
 /// is a normal f64, where in f32 it overflows past ~1.8e19 and underflows below ~1e-19.
-pub fn unit_vector(v: DVec3) -> Vec3 {
-    let len = v.length();
+pub fn unit_vector(v: [f64; 3]) -> Vec3 {
+    let len = wide::length(v);
     if !(len > 0.0 && len.is_finite()) {
         return Vec3::ZERO;
     }
-    (v / len).as_vec3()
+    wide::narrow(v.map(|x| x / len))
+}
+
+/// The few f64 vector operations the shading step needs, on `[f64; 3]` (so that glam's f64
+/// types, a feature in some of the glam versions octoray accepts, are not required).
+pub(crate) mod wide {
+    use glam::Vec3;
+    /// `v` widened exactly.
+    pub fn of(v: Vec3) -> [f64; 3] {
+        v.to_array().map(f64::from)
+    }
+    /// Rounded to f32.
+    pub fn narrow(v: [f64; 3]) -> Vec3 {
+        Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32)
+    }
+    pub fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+        [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+    }
+    pub fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+        [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+    }
+    pub fn scale(a: [f64; 3], k: f64) -> [f64; 3] {
+        a.map(|x| x * k)
+    }
+    pub fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+        a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    }
+    pub fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    }
+    pub fn length(a: [f64; 3]) -> f64 {
+        libm::sqrt(dot(a, a))
+    }
 }
 
 /// A primitive layout that can describe the surface at a hit on it.
@@ -94,8 +130,9 @@ impl Shade for VertexTriangle {
     fn surface(&self, ray: &Ray, hit: &Hit) -> Surface {
         let (p, err) = offset::triangle_hit_point(self, hit.u, hit.v);
         // The edges and their cross product in f64: no f32 overflow or underflow at any scale.
-        let [v0, v1, v2] = self.vertices().map(|v| v.as_dvec3());
-        Surface::facing(ray, p, err, unit_vector((v1 - v0).cross(v2 - v0)))
+        let [v0, v1, v2] = self.vertices().map(wide::of);
+        let n = wide::cross(wide::sub(v1, v0), wide::sub(v2, v0));
+        Surface::facing(ray, p, err, unit_vector(n))
     }
 }
 

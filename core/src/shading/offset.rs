@@ -38,21 +38,17 @@ pub(crate) fn sphere_hit(
     t: f32,
     center: Vec3,
     radius: f32,
-) -> (Vec3, Vec3, glam::DVec3) {
+) -> (Vec3, Vec3, [f64; 3]) {
+    use super::wide::{add, length, narrow, of, scale, sub};
     let p = ray.at(t);
     // In f64: |p − c|² of a tiny sphere (r ≲ 1e-19) underflows in f32 and would give NaN, and
     // o + t·d of a huge direction can overflow f32 before the point is projected back.
-    let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
-    let cd = center.as_dvec3();
-    let diff = o + d * f64::from(t) - cd;
-    let len = diff.length();
-    let q = cd + diff * (f64::from(radius) / len);
+    let cd = of(center);
+    let diff = sub(add(of(ray.origin), scale(of(ray.dir), f64::from(t))), cd);
+    let len = length(diff);
+    let q = narrow(add(cd, scale(diff, f64::from(radius) / len)));
     // Re-project only where that is a finite point (not for p == c or a non-finite input).
-    let p = if len > 0.0 && q.as_vec3().is_finite() {
-        q.as_vec3()
-    } else {
-        p
-    };
+    let p = if len > 0.0 && q.is_finite() { q } else { p };
     let err = (p.abs() + center.abs() + Vec3::splat(radius)) * gamma(8.0);
     (p, err, diff)
 }
@@ -74,8 +70,8 @@ pub fn triangle_hit_point(tri: &VertexTriangle, u: f32, v: f32) -> (Vec3, Vec3) 
     let p = v0 * b0 + v1 * u + v2 * v;
     let point_err = ((v0 * b0).abs() + (v1 * u).abs() + (v2 * v).abs()) * gamma(7.0);
     // Edge lengths in f64: in f32 their squares overflow past ~1.8e19 and underflow below ~1e-19.
-    let [a, b, c] = [v0, v1, v2].map(|v| v.as_dvec3());
-    let edges = (b - a).length() + (c - a).length();
+    use super::wide::{length, of, sub};
+    let edges = length(sub(of(v1), of(v0))) + length(sub(of(v2), of(v0)));
     let kernel_err = (f64::from(gamma(8.0)) * edges) as f32;
     (p, point_err + Vec3::splat(kernel_err))
 }
@@ -105,7 +101,7 @@ fn next_down(x: f32) -> f32 {
 ///
 /// Returns `p` unchanged when `n` is zero or not finite (there is no side to pick).
 pub fn offset_ray_origin(p: Vec3, p_error: Vec3, n: Vec3, w: Vec3) -> Vec3 {
-    let n = super::unit_vector(n.as_dvec3());
+    let n = super::unit_vector(super::wide::of(n));
     if n == Vec3::ZERO {
         return p;
     }
