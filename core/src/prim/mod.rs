@@ -161,11 +161,11 @@ pub trait Primitive: Copy + bytemuck::Pod {
 }
 
 /// A source of primitives' `f32` words for [`Primitive::from_words`]: word `k` of the primitive
-/// in each lane. Implemented by one primitive broadcast ([`One`], what [`Primitive::splat`]
-/// reads; [`BlockLane`] from a SoA block), the two storage orders, primitives one after another ([`Rows`], what
-/// [`Primitive::gather`] reads) and SoA blocks ([`BlockRows`], what [`Primitive::load_block`]
-/// reads), and, for layouts of points, any of them with the axes of every point permuted
-/// ([`Permuted`]).
+/// in each lane. The crate implements it for one primitive broadcast (what [`Primitive::splat`]
+/// reads, also from a SoA block), for primitives one after another (what [`Primitive::gather`]
+/// reads), for SoA blocks (what [`Primitive::load_block`] reads) and, for layouts of points, for
+/// any of them with the axes of every point permuted; a custom [`crate::Kernel`] reads its
+/// primitive through it.
 pub trait Words {
     /// Word `k` of each lane's primitive.
     fn word<L: Lanes>(&self, k: usize) -> L;
@@ -184,7 +184,7 @@ impl<W: Words> Words for &W {
 }
 
 /// One primitive in every lane.
-pub struct One<'a, P>(pub &'a P);
+pub(crate) struct One<'a, P>(pub &'a P);
 
 impl<P: bytemuck::Pod> Words for One<'_, P> {
     #[inline(always)]
@@ -196,7 +196,7 @@ impl<P: bytemuck::Pod> Words for One<'_, P> {
 
 /// Primitive `i` of a SoA block in every lane (a packet of rays against one primitive of a
 /// BVH leaf): each word broadcast straight from its row.
-pub struct BlockLane<'a> {
+pub(crate) struct BlockLane<'a> {
     rows: &'a [[f32; BLOCK]],
     i: usize,
 }
@@ -228,7 +228,7 @@ impl Words for BlockLane<'_> {
 /// [`VertexTriangle`]): a kernel that works in a ray-dependent axis order (the watertight shear)
 /// reads its points already in that order, when every lane shares it, at no cost (the loads'
 /// addresses change, not their number).
-pub struct Permuted<W> {
+pub(crate) struct Permuted<W> {
     /// The source.
     pub words: W,
     /// Source axis of each axis of the result (a permutation of `0, 1, 2`).
@@ -244,7 +244,7 @@ impl<W: Words> Words for Permuted<W> {
 
 /// Primitives one after another, padded to 16 (the most lanes) with zero primitives so that reading
 /// lane `i` needs no bounds check and no branch.
-pub struct Rows<P>([P; MAX_LANES]);
+pub(crate) struct Rows<P>([P; MAX_LANES]);
 
 impl<P: bytemuck::Pod> Words for Rows<P> {
     #[inline(always)]
@@ -256,7 +256,7 @@ impl<P: bytemuck::Pod> Words for Rows<P> {
 }
 
 /// A SoA block's rows, read from primitive `first` on.
-pub struct BlockRows<'a> {
+pub(crate) struct BlockRows<'a> {
     rows: &'a [[f32; BLOCK]],
     first: usize,
 }
