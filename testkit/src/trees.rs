@@ -59,73 +59,50 @@ fn set_box(n: &mut Bvh8Node, s: usize, h: f32) {
     }
 }
 
-/// One block holding `tri` in slot 0 (the rest padding).
-fn one_block(tri: &VertexTriangle) -> (Vec<[f32; BLOCK]>, Vec<u32>) {
+/// A chain of `n` nodes whose first `slots` slots each name the next node (the last node: leaves
+/// of one triangle), boxes [−10, 10]³.
+fn linked(n: usize, slots: usize) -> Slices {
+    let tri = VertexTriangle::new(
+        Vec3::new(-1.0, -1.0, 0.0),
+        Vec3::new(1.0, -1.0, 0.0),
+        Vec3::Y,
+    );
     let mut blocks = vec![[0.0; BLOCK]; VertexTriangle::WORDS];
-    VertexTriangle::write_block(core::slice::from_ref(tri), &mut blocks);
+    VertexTriangle::write_block(core::slice::from_ref(&tri), &mut blocks);
     let mut ids = vec![PAD; BLOCK];
     ids[0] = 0;
-    (blocks, ids)
+    let nodes = (0..n)
+        .map(|i| {
+            let mut node = Bvh8Node::EMPTY;
+            for s in 0..slots {
+                set_box(&mut node, s, 10.0);
+                (node.child[s], node.count[s]) = if i + 1 < n {
+                    (i as u32 + 1, 0)
+                } else {
+                    (0, 1)
+                };
+            }
+            node
+        })
+        .collect();
+    Slices {
+        nodes,
+        blocks,
+        ids,
+        prims: 1,
+    }
 }
 
 /// The exponential shape: node `i`'s slots 0 and 1 both name node `i + 1` (a DAG with 2ⁿ paths);
 /// the last node holds two leaves of the one triangle. Every box is [−10, 10]³.
 pub fn shared_chain(n: usize) -> Slices {
-    let tri = VertexTriangle::new(
-        Vec3::new(-1.0, -1.0, 0.0),
-        Vec3::new(1.0, -1.0, 0.0),
-        Vec3::Y,
-    );
-    let (blocks, ids) = one_block(&tri);
-    let nodes = (0..n)
-        .map(|i| {
-            let mut node = Bvh8Node::EMPTY;
-            for s in 0..2 {
-                set_box(&mut node, s, 10.0);
-                if i + 1 < n {
-                    (node.child[s], node.count[s]) = (i as u32 + 1, 0);
-                } else {
-                    (node.child[s], node.count[s]) = (0, 1);
-                }
-            }
-            node
-        })
-        .collect();
-    Slices {
-        nodes,
-        blocks,
-        ids,
-        prims: 1,
-    }
+    linked(n, 2)
 }
 
 /// A chain of `n` nodes, each with one inner child, the last holding a leaf of one triangle: in
 /// build order, so valid exactly when `n` is within the depth limit.
 pub fn chain(n: usize) -> Slices {
-    let tri = VertexTriangle::new(
-        Vec3::new(-1.0, -1.0, 0.0),
-        Vec3::new(1.0, -1.0, 0.0),
-        Vec3::Y,
-    );
-    let (blocks, ids) = one_block(&tri);
-    let nodes = (0..n)
-        .map(|i| {
-            let mut node = Bvh8Node::EMPTY;
-            set_box(&mut node, 0, 10.0);
-            if i + 1 < n {
-                (node.child[0], node.count[0]) = (i as u32 + 1, 0);
-            } else {
-                (node.child[0], node.count[0]) = (0, 1);
-            }
-            node
-        })
-        .collect();
-    Slices {
-        nodes,
-        blocks,
-        ids,
-        prims: 1,
-    }
+    linked(n, 1)
 }
 
 /// A chain of `depth` nodes, each with eight inner children entered by every ray near the
