@@ -7,6 +7,10 @@
 //!   SoA blocks of [`BLOCK`], their indices in the caller's slice). Traversal needs nothing
 //!   else: no allocator, no `std`. A tree built on a host can be written out with `bytemuck`
 //!   and traversed on a target from `&'static` data, after [`Bvh8Ref::new`] has validated it.
+//! - Traversal ([`traverse`]): single rays (one ray against the eight children of a node in one
+//!   `f32x8` box test; leaves tested a block at a time, one vector load per word) and packets
+//!   (the packet's active mask goes down the tree together; a packet that thins out continues
+//!   ray by ray), generic over the kernel tiers and the query kinds.
 //!
 //! # Untrusted trees
 //! [`Bvh8Ref::new`] takes any bytes: it answers `Ok` or a [`BvhError`], never panics, in time
@@ -18,10 +22,6 @@
 //! reports only primitive indices below [`Bvh8Ref::prims`]. The boxes are not checked against
 //! the primitives: a tree with wrong boxes gives wrong answers (only the built or faithfully
 //! stored tree equals brute force), never a crash or a long walk.
-//! - Traversal ([`traverse`]): single rays (one ray against the eight children of a node in one
-//!   `f32x8` box test; leaves tested a block at a time, one vector load per word) and packets
-//!   (the packet's active mask goes down the tree together; a packet that thins out continues
-//!   ray by ray), generic over the kernel tiers and the query kinds.
 //!
 //! # Contract
 //! The answers equal the brute-force queries of [`crate::query`] over the caller's slice, bit for
