@@ -29,8 +29,8 @@
 //!   rounded once more, within one ulp. Always inside `[t_min, t_max]`.
 //! - **Barycentrics:** on filter lanes the watertight tier's (signs certified, so in `[0, 1]`);
 //!   past the filter, the exact ones to f64 precision, rounded.
-//! - **Cost:** the filter's certificates on every test: 3.251 (report: `exact, 8 lanes`, ns/test)
-//!   against the watertight tier's 2.734 (report: `watertight, 8 lanes`, ns/test) on the trade
+//! - **Cost:** the filter's certificates on every test: 3.354 (report: `exact, 8 lanes`, ns/test)
+//!   against the watertight tier's 2.662 (report: `watertight, 8 lanes`, ns/test) on the trade
 //!   workload. Per ray family (the report's second table, one ray and one triangle per call):
 //!   1.0× the watertight tier on random and translated rays, 1.1–1.3× grazing, ~4× on thin
 //!   triangles, ~10× on rays aimed exactly at vertices and edges, where every test leaves the
