@@ -76,11 +76,7 @@ fn linked(n: usize, slots: usize) -> Slices {
             let mut node = Bvh8Node::EMPTY;
             for s in 0..slots {
                 set_box(&mut node, s, 10.0);
-                (node.child[s], node.count[s]) = if i + 1 < n {
-                    (i as u32 + 1, 0)
-                } else {
-                    (0, 1)
-                };
+                (node.child[s], node.count[s]) = if i + 1 < n { (i as u32 + 1, 0) } else { (0, 1) };
             }
             node
         })
