@@ -196,11 +196,13 @@ impl<P: bytemuck::Pod> Words for One<'_, P> {
 
 /// Primitive `i` of a SoA block in every lane (a packet of rays against one primitive of a
 /// BVH leaf): each word broadcast straight from its row.
+#[cfg(feature = "wide")]
 pub(crate) struct BlockLane<'a> {
     rows: &'a [[f32; BLOCK]],
     i: usize,
 }
 
+#[cfg(feature = "wide")]
 impl<'a> BlockLane<'a> {
     /// Primitive `i` of a SoA block of `P`.
     ///
@@ -216,6 +218,7 @@ impl<'a> BlockLane<'a> {
     }
 }
 
+#[cfg(feature = "wide")]
 impl Words for BlockLane<'_> {
     #[inline(always)]
     fn word<L: Lanes>(&self, k: usize) -> L {
@@ -228,6 +231,7 @@ impl Words for BlockLane<'_> {
 /// [`VertexTriangle`]): a kernel that works in a ray-dependent axis order (the watertight shear)
 /// reads its points already in that order, when every lane shares it, at no cost (the loads'
 /// addresses change, not their number).
+#[cfg(feature = "triangle")]
 pub(crate) struct Permuted<W> {
     /// The source.
     pub words: W,
@@ -235,6 +239,7 @@ pub(crate) struct Permuted<W> {
     pub axes: [usize; 3],
 }
 
+#[cfg(feature = "triangle")]
 impl<W: Words> Words for Permuted<W> {
     #[inline(always)]
     fn word<L: Lanes>(&self, k: usize) -> L {

@@ -85,6 +85,9 @@ pub fn unit_vector(v: [f64; 3]) -> Vec3 {
 
 /// The few f64 vector operations the shading step needs, on `[f64; 3]` (so that glam's f64
 /// types, a feature in some of the glam versions octoray accepts, are not required).
+// The triangle step uses `cross`, the sphere step `add` and `scale`: a single-primitive build
+// leaves the other's unused.
+#[cfg_attr(not(all(feature = "triangle", feature = "sphere")), allow(dead_code))]
 pub(crate) mod wide {
     use glam::Vec3;
     /// `v` widened exactly.
