@@ -5,7 +5,7 @@
 use octoray_testkit as testkit;
 
 use glam::Vec3;
-use octoray::Ray;
+use octoray::prim::Ray;
 use std::time::Instant;
 use testkit::accuracy::*;
 use testkit::mesh::crack_suite;
@@ -58,7 +58,7 @@ fn cracks() {
     }
 }
 
-fn outcome(h: Option<octoray::Hit>) -> String {
+fn outcome(h: Option<octoray::hit::Hit>) -> String {
     match h {
         Some(h) => format!("hit t={:.7e}", h.t),
         None => "miss".into(),

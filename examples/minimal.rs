@@ -1,9 +1,10 @@
 //! Build a scene, trace one ray and one packet, print the hits.
 use octoray::bvh::Bvh8;
+use octoray::f32x8;
 use octoray::glam::Vec3;
-use octoray::packet::scene::{closest_packet, closest_ray};
-use octoray::packet::{f32x8, tiers::Watertight};
-use octoray::{Ray, RayLanes, VertexTriangle};
+use octoray::kernels::Watertight;
+use octoray::prim::{Ray, RayLanes, VertexTriangle};
+use octoray::scene::{closest_packet, closest_ray};
 
 fn main() {
     // Two triangles forming the unit square in z = 0.

@@ -5,8 +5,8 @@
 //! Run: `cargo run --example textbook`
 
 use octoray::glam::Vec3;
+use octoray::prim::{PackedSphere, PackedTriangle, Ray, Sphere, VertexTriangle};
 use octoray::textbook::{self, InsideTest, SphereOutcome, TriangleOutcome};
-use octoray::{PackedSphere, PackedTriangle, Ray, Sphere, VertexTriangle};
 
 fn fmt(v: Vec3) -> String {
     format!("({}, {}, {})", v.x, v.y, v.z)

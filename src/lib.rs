@@ -1,13 +1,44 @@
 //! octoray: SIMD packet ray-triangle and ray-sphere kernels with documented accuracy contracts.
 //!
-//! A thin facade: everything of `octoray-core` (scalar kernels, the textbook reference, the one
-//! generic body of every kernel, the BVH) at the root, and [`packet`], `octoray-packet` (the
-//! SIMD layer on `wide`: slices and packets of rays against primitives and scenes).
+//! Every item has one path here; the modules are the chapters of the manual.
+//!
+//! | you need | where |
+//! |---|---|
+//! | rays, primitives, their SoA layouts | [`prim`] ([`prim::Ray`], [`prim::VertexTriangle`], [`prim::PackedTriangle`], [`prim::Sphere`], [`prim::PackedSphere`]) |
+//! | a tier (accuracy against speed) and its contract | [`kernels`] ([`kernels::MollerTrumbore`], [`kernels::Watertight`], [`kernels::Exact`], [`kernels::StableSphere`]); the f64 tier is any of them at [`f64x4`]/[`f64x8`] |
+//! | what a test answers | [`hit`] ([`hit::Hit`]) |
+//! | a tree over a scene: build, store, validate | [`bvh`] ([`bvh::Bvh8`], [`bvh::Bvh8Ref`]) |
+//! | rays against a scene | [`scene`] (slices of rays, packets, single rays) |
+//! | rays against a slice of primitives | [`closest`], [`closest_t`], [`occluded`] (slices), [`query`] (one packet), [`intersect`] (one ray) |
+//! | lane types | [`f32x4`], [`f32x8`], [`f32x16`], [`f64x4`], [`f64x8`]; the trait [`lanes::Lanes`] |
+//! | hit points, normals, spawned rays | [`shading`] |
+//! | vertex and index buffers in, errors out | [`ingest`] |
+//! | which tier a scene needs | [`recommend`] |
+//! | the seed sheet's method, every intermediate | [`textbook`] |
+//!
+//! `octoray-core` (`no_std`, no `wide`) holds everything but the SIMD work; `octoray-packet`
+//! (`no_std`, on `wide`) holds the slice calls, the scene walks and the lane types. This crate
+//! re-exports both, each item once, and adds [`parallel`] (feature `rayon`).
 #![no_std]
 #![forbid(unsafe_code)]
 
-pub use octoray_core::*;
-pub use octoray_packet as packet;
+#[doc(inline)]
+pub use octoray_core::intersect;
+#[cfg(feature = "sphere")]
+#[doc(inline)]
+pub use octoray_core::intersect_sphere;
+#[cfg(feature = "triangle")]
+#[doc(inline)]
+pub use octoray_core::intersect_triangle;
+#[cfg(any(feature = "triangle", feature = "sphere"))]
+#[doc(inline)]
+pub use octoray_core::shading;
+#[doc(inline)]
+pub use octoray_core::{bvh, glam, hit, ingest, kernels, lanes, prim, query, recommend, textbook};
+#[doc(inline)]
+pub use octoray_packet::{closest, closest_t, occluded, scene};
+#[doc(inline)]
+pub use octoray_packet::{f32x16, f32x4, f32x8, f64x4, f64x8};
 
 /// Threads for the BVH build (features `rayon` and `alloc`).
 #[cfg(all(feature = "rayon", feature = "alloc"))]

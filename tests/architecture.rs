@@ -104,6 +104,42 @@ fn core_modules_import_only_from_layers_below() {
     assert!(checked > 50, "only {checked} imports seen");
 }
 
+/// `octoray-packet`'s two layers, ray slices against primitive slices (`slices.rs`) and the scene
+/// walks (`scene/`), are side by side on top of the core: neither imports the other, and the
+/// crate root only declares them.
+#[test]
+fn packet_layers_are_side_by_side() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("packet/src");
+    for f in rust_files(&src) {
+        let rel = f.strip_prefix(&src).expect("under packet/src");
+        let module = rel
+            .components()
+            .next()
+            .expect("component")
+            .as_os_str()
+            .to_str()
+            .expect("utf-8")
+            .trim_end_matches(".rs")
+            .to_string();
+        let text = std::fs::read_to_string(&f).expect("read");
+        for target in crate_refs(&text) {
+            assert!(
+                module == "lib" || target == module,
+                "{}: `{module}` imports `crate::{target}`",
+                rel.display()
+            );
+        }
+        if module != "lib" {
+            assert!(
+                text.contains("octoray_core::"),
+                "{}: builds on octoray-core",
+                rel.display()
+            );
+        }
+    }
+    assert!(rust_files(&src).len() >= 4, "packet/src has its layers");
+}
+
 /// The parser sees through groups and skips comments.
 #[test]
 fn crate_refs_reads_groups_and_skips_comments() {

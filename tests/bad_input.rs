@@ -5,10 +5,11 @@
 use octoray_testkit as testkit;
 
 use octoray::glam::Vec3;
-use octoray::packet::tiers::{MollerTrumbore, StableSphere};
-use octoray::packet::{self, f32x16, f32x4, f32x8, LaneMask, Lanes, RayLanes};
+use octoray::kernels::{MollerTrumbore, StableSphere};
+use octoray::lanes::{LaneMask, Lanes};
+use octoray::prim::{PackedSphere, PackedTriangle, Ray, RayLanes, Sphere, VertexTriangle};
 use octoray::textbook::{self, InsideTest};
-use octoray::{PackedSphere, PackedTriangle, Ray, Sphere, VertexTriangle};
+use octoray::{f32x16, f32x4, f32x8};
 use testkit::*;
 
 const BAD: [f32; 3] = [f32::NAN, f32::INFINITY, f32::NEG_INFINITY];
@@ -185,9 +186,9 @@ fn no_poisoning<L: Lanes>() {
             .map(|i| if i % 2 == 0 { seed_ray() } else { bad })
             .collect();
         let p = RayLanes::<L>::load(&rays);
-        let ht = packet::query::closest::<_, MollerTrumbore>(&p, &tris);
-        let hs = packet::query::closest::<_, StableSphere>(&p, &spheres);
-        let occ = packet::query::occluded::<_, MollerTrumbore>(&p, &tris).bitmask();
+        let ht = octoray::query::closest::<_, MollerTrumbore>(&p, &tris);
+        let hs = octoray::query::closest::<_, StableSphere>(&p, &spheres);
+        let occ = octoray::query::occluded::<_, MollerTrumbore>(&p, &tris).bitmask();
         for i in 0..L::LANES {
             if i % 2 == 0 {
                 assert_eq!(ht.lane(i), Some(alone_t), "{what}: lane {i}");

@@ -8,11 +8,11 @@
 #![cfg(all(feature = "triangle", feature = "sphere"))]
 use octoray_testkit as testkit;
 
+use octoray::f32x8;
+use octoray::hit::Hit;
 use octoray::kernels::{Exact, Kernel, MollerTrumbore, StableSphere, Watertight};
-use octoray::packet::f32x8;
+use octoray::prim::{PackedSphere, PackedTriangle, Ray, RayLanes, VertexTriangle};
 use octoray::query::closest;
-use octoray::{Hit, PackedSphere, PackedTriangle, Ray};
-use octoray::{RayLanes, VertexTriangle};
 use testkit::accuracy::{
     distant_sphere_cases, edge_cases, grazing_cases, near_sphere_cases, random_cases,
 };

@@ -5,8 +5,10 @@
 //! 1e-9 rad, long thin triangles of aspect 1e2 to 1e5, translated and scaled from 1e-20 to 1e30,
 //! and `t_min`/`t_max` placed exactly at (and one f32 step around) the exact hit.
 #![cfg(feature = "triangle")]
+use octoray::hit::Hit;
+use octoray::intersect;
 use octoray::kernels::{Exact, ExactCulled};
-use octoray::{intersect, Hit, Ray, RayLanes, VertexTriangle};
+use octoray::prim::{Ray, RayLanes, VertexTriangle};
 use octoray_testkit as testkit;
 use std::cmp::Ordering;
 use testkit::accuracy::*;

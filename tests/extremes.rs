@@ -5,9 +5,11 @@
 use octoray_testkit as testkit;
 
 use glam::Vec3;
+use octoray::hit::Hit;
+use octoray::intersect;
+use octoray::kernels::{MollerTrumbore, Watertight};
+use octoray::prim::{PackedTriangle, Ray, VertexTriangle};
 use octoray::shading::offset::{offset_ray_origin, sphere_hit_point, triangle_hit_point};
-use octoray::{intersect, MollerTrumbore, VertexTriangle, Watertight};
-use octoray::{Hit, PackedTriangle, Ray};
 use testkit::accuracy::{SphereCase, SphereTier, TriCase, TriTier};
 use testkit::{oracle, Rng};
 
@@ -319,7 +321,7 @@ fn huge_sphere_seen_from_just_above_its_surface() {
         let exact = oracle::sphere(
             &c.ray,
             c.center,
-            octoray::PackedSphere::new(c.center, r).radius_sq,
+            octoray::prim::PackedSphere::new(c.center, r).radius_sq,
         )
         .roots[0];
         assert!(
@@ -414,11 +416,11 @@ fn spawned_rays_do_not_rehit_their_own_sphere() {
     for scale in [1.0f32, 1e2, 1e4] {
         for _ in 0..5000 {
             let (c, r) = (rng.vec3(scale), rng.range(0.05, 1.0) * scale);
-            let sphere = octoray::PackedSphere::new(c, r);
+            let sphere = octoray::prim::PackedSphere::new(c, r);
             // From far away (the eye at 10 radii and more), so t carries the whole ray's error.
             let o = c + rng.vec3(1.0).normalize() * (r * rng.range(10.0, 1000.0));
             let ray = Ray::new(o, c + rng.vec3(r) - o);
-            let Some(hit) = intersect::<f32, octoray::StableSphere>(&ray, &sphere) else {
+            let Some(hit) = intersect::<f32, octoray::kernels::StableSphere>(&ray, &sphere) else {
                 continue;
             };
             let (p, err) = sphere_hit_point(&ray, hit.t, c, r);
@@ -432,17 +434,20 @@ fn spawned_rays_do_not_rehit_their_own_sphere() {
             }
             spawned += 1;
             naive_rehits += usize::from(
-                intersect::<f32, octoray::StableSphere>(&Ray::new(ray.at(hit.t), w), &sphere)
-                    .is_some(),
+                intersect::<f32, octoray::kernels::StableSphere>(
+                    &Ray::new(ray.at(hit.t), w),
+                    &sphere,
+                )
+                .is_some(),
             );
             let spawn = Ray::new(offset_ray_origin(p, err, n, w), w);
             assert_eq!(
-                intersect::<f32, octoray::StableSphere>(&spawn, &sphere),
+                intersect::<f32, octoray::kernels::StableSphere>(&spawn, &sphere),
                 None,
                 "stable re-hit: {spawn:?}"
             );
             assert_eq!(
-                intersect::<f32, octoray::NaiveSphere>(&spawn, &sphere),
+                intersect::<f32, octoray::kernels::NaiveSphere>(&spawn, &sphere),
                 None,
                 "naive re-hit: {spawn:?}"
             );

@@ -5,10 +5,10 @@
 #[cfg(feature = "triangle")]
 mod triangles {
     use octoray::glam::Vec3;
-    use octoray::packet::tiers::MollerTrumbore;
-    use octoray::packet::{closest, f32x8};
+    use octoray::kernels::MollerTrumbore;
+    use octoray::prim::{PackedTriangle, Ray, VertexTriangle};
     use octoray::textbook::{self, InsideTest};
-    use octoray::{PackedTriangle, Ray, VertexTriangle};
+    use octoray::{closest, f32x8};
 
     #[test]
     fn seed_triangle_1_hits_at_t_2_everywhere() {
@@ -36,10 +36,9 @@ mod triangles {
 #[cfg(feature = "sphere")]
 mod spheres {
     use octoray::glam::Vec3;
-    use octoray::packet::tiers::StableSphere;
-    use octoray::packet::{closest, f32x8};
-    use octoray::textbook;
-    use octoray::{PackedSphere, Ray, Sphere};
+    use octoray::kernels::StableSphere;
+    use octoray::prim::{PackedSphere, Ray, Sphere};
+    use octoray::{closest, f32x8, textbook};
 
     #[test]
     fn seed_spheres_hit_and_miss_everywhere() {

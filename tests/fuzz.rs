@@ -17,21 +17,20 @@
 #![cfg(all(feature = "triangle", feature = "sphere", feature = "alloc"))]
 use octoray_testkit as testkit;
 
-use octoray::bvh::traverse::{closest_packet, closest_ray as bvh_closest};
 use octoray::bvh::Bvh8;
 use octoray::glam::Vec3;
-use octoray::ingest;
+use octoray::hit::Hit;
 use octoray::kernels::{
     Exact, ExactCulled, Kernel, MollerTrumbore, MollerTrumboreCulled, NaiveSphere, StableSphere,
     Watertight, WatertightCulled,
 };
-use octoray::packet::{f32x16, f32x4, f32x8};
-use octoray::prim::Primitive;
+use octoray::lanes::{LaneMask, Lanes, Scalar};
+use octoray::prim::{PackedSphere, PackedTriangle, Primitive, Ray, RayLanes, VertexTriangle};
 use octoray::query::{closest, closest_t, occluded};
 use octoray::recommend::{recommend, SceneSpec};
+use octoray::scene::{closest_packet, closest_ray as bvh_closest};
 use octoray::shading::offset::{offset_ray_origin, sphere_hit_point, triangle_hit_point};
-use octoray::{Hit, PackedSphere, PackedTriangle, Ray, VertexTriangle};
-use octoray::{LaneMask, Lanes, RayLanes, Scalar};
+use octoray::{f32x16, f32x4, f32x8, ingest};
 use testkit::accuracy::TriCase;
 use testkit::{oracle, Rng};
 use wide::f64x4;
@@ -615,11 +614,11 @@ fn run_batch(rng: &mut Rng) {
         .collect();
     let rays: Vec<Ray> = cases.iter().map(|c| c.0).take(n).collect();
     let mut out = vec![None; rays.len()];
-    octoray::packet::closest::<f32x8, MollerTrumbore>(&rays, &tris, &mut out);
+    octoray::closest::<f32x8, MollerTrumbore>(&rays, &tris, &mut out);
     let mut occ = vec![false; rays.len()];
-    octoray::packet::occluded::<f32x16, MollerTrumbore>(&rays, &tris, &mut occ);
+    octoray::occluded::<f32x16, MollerTrumbore>(&rays, &tris, &mut occ);
     let mut ts = vec![None; rays.len()];
-    octoray::packet::closest_t::<f32x4, MollerTrumbore>(&rays, &tris, &mut ts);
+    octoray::closest_t::<f32x4, MollerTrumbore>(&rays, &tris, &mut ts);
     for (i, r) in rays.iter().enumerate() {
         let want = closest::<f32, MollerTrumbore>(&RayLanes::single(r), &tris).lane(0);
         assert_eq!(out[i], want, "batch closest, {r:?}");
@@ -639,8 +638,8 @@ static TREES: [std::sync::atomic::AtomicUsize; 3] =
 /// unchanged tree passes, and every query on a tree that passes tests each leaf block at most once
 /// per ray and reports only indices below the caller's count, at finite `t` in range.
 fn run_tree(rng: &mut Rng) {
-    use octoray::bvh::traverse::{occluded_packet, occluded_ray};
     use octoray::bvh::{Bvh8Ref, MAX_DEPTH};
+    use octoray::scene::{occluded_packet, occluded_ray};
     use std::sync::atomic::Ordering::Relaxed;
     use testkit::trees::{
         bushy_chain, chain, craft, shared_chain, take_leaf_tests, triangles, Counting, Slices,

@@ -5,9 +5,10 @@
 use octoray_testkit as testkit;
 
 use octoray::glam::Vec3;
-use octoray::packet::{self, f32x16, f32x4, f32x8, Lanes};
+use octoray::lanes::Lanes;
+use octoray::prim::{PackedSphere, PackedTriangle};
 use octoray::textbook::{self, InsideTest, SphereOutcome, TextbookHit, TriangleOutcome};
-use octoray::{PackedSphere, PackedTriangle};
+use octoray::{f32x16, f32x4, f32x8};
 use testkit::*;
 
 fn v(x: f32, y: f32, z: f32) -> Vec3 {
@@ -167,8 +168,8 @@ fn check_kernels<L: Lanes>() {
     for (tri, want) in tris.iter().zip(want_tri) {
         let twin = octoray::intersect_triangle(&ray, tri).map(|h| f64::from(h.t));
         assert_eq!(twin, want);
-        let p = packet::query::closest::<L, packet::tiers::MollerTrumbore>(
-            &packet::RayLanes::<L>::load(&[ray]),
+        let p = octoray::query::closest::<L, octoray::kernels::MollerTrumbore>(
+            &octoray::prim::RayLanes::<L>::load(&[ray]),
             std::slice::from_ref(tri),
         );
         assert_eq!(p.lane(0).map(|h| f64::from(h.t)), want);
@@ -178,8 +179,8 @@ fn check_kernels<L: Lanes>() {
     }
     for (s, want) in spheres.iter().zip(want_sph) {
         let twin = octoray::intersect_sphere(&ray, s);
-        let p = packet::query::closest::<L, packet::tiers::StableSphere>(
-            &packet::RayLanes::<L>::load(&[ray]),
+        let p = octoray::query::closest::<L, octoray::kernels::StableSphere>(
+            &octoray::prim::RayLanes::<L>::load(&[ray]),
             std::slice::from_ref(s),
         );
         assert_eq!(twin, p.lane(0));
@@ -194,7 +195,7 @@ fn check_kernels<L: Lanes>() {
     let rays = vec![ray; L::LANES.min(7)];
     let mut hits = vec![None; rays.len()];
     for (k, tri) in tris.iter().enumerate() {
-        packet::closest::<L, packet::tiers::MollerTrumbore>(
+        octoray::closest::<L, octoray::kernels::MollerTrumbore>(
             &rays,
             std::slice::from_ref(tri),
             &mut hits,
@@ -204,7 +205,7 @@ fn check_kernels<L: Lanes>() {
         }
     }
     for (k, s) in spheres.iter().enumerate() {
-        packet::closest::<L, packet::tiers::StableSphere>(
+        octoray::closest::<L, octoray::kernels::StableSphere>(
             &rays,
             std::slice::from_ref(s),
             &mut hits,
@@ -215,11 +216,11 @@ fn check_kernels<L: Lanes>() {
     }
     // And all primitives at once: triangle 1 (t = 2) is nearer than nothing else; sphere 2's
     // near root (~0.733) is the closest sphere.
-    packet::closest::<L, packet::tiers::MollerTrumbore>(&rays, &tris, &mut hits);
+    octoray::closest::<L, octoray::kernels::MollerTrumbore>(&rays, &tris, &mut hits);
     assert!(hits
         .iter()
         .all(|h| h.map(|h| (h.t, h.prim)) == Some((2.0, 0))));
-    packet::closest::<L, packet::tiers::StableSphere>(&rays, &spheres, &mut hits);
+    octoray::closest::<L, octoray::kernels::StableSphere>(&rays, &spheres, &mut hits);
     assert!(hits.iter().all(|h| h.is_some_and(|h| h.prim == 1)));
 }
 

@@ -3,10 +3,10 @@
 
 use octoray::glam::Vec3;
 use octoray::kernels::{Kernel, MollerTrumbore};
-use octoray::packet::{f32x16, f32x4, f32x8};
+use octoray::lanes::{LaneMask, Lanes};
+use octoray::prim::{PackedTriangle, Ray, RayLanes};
 use octoray::query::{closest, occluded};
-use octoray::{LaneMask, Lanes, RayLanes};
-use octoray::{PackedTriangle, Ray};
+use octoray::{f32x16, f32x4, f32x8};
 
 /// The Möller-Trumbore tier's answer at every width, lane 0 of a one-ray packet: (closest hit,
 /// any hit). (These inputs were found against the removed fast tier; they stay as hostile
@@ -70,9 +70,9 @@ fn zero_area_triangle_is_a_miss() {
     assert_eq!(mt_everywhere(&ray, &tri), [(false, false); 4]);
 }
 
-use octoray::kernels::{MollerTrumboreCulled, Watertight};
+use octoray::kernels::{Exact, MollerTrumboreCulled, Watertight};
+use octoray::prim::VertexTriangle;
 use octoray::query::closest_t;
-use octoray::{Exact, VertexTriangle};
 
 /// `closest_t` and `closest` of `K` over `prims` for one ray: (t bits from each, u and v bits).
 fn t_both<K: Kernel<f32x8>>(ray: &Ray, prims: &[K::Prim]) -> Option<(u32, u32, u32, u32)> {
@@ -147,10 +147,10 @@ fn barycentrics_are_never_negative_zero() {
 #[cfg(feature = "sphere")]
 #[test]
 fn spawn_helpers_stay_finite_and_tiny_spheres_are_documented() {
+    use octoray::kernels::StableSphere;
+    use octoray::prim::PackedSphere;
     use octoray::query::closest;
     use octoray::shading::offset::{offset_ray_origin, sphere_hit_point};
-    use octoray::PackedSphere;
-    use octoray::StableSphere;
     let v = Vec3::new;
     // A real hit on a sphere of radius 2e-19: |p − c|² underflowed in f32 and gave NaN points.
     let (c, r) = (v(0.0, 0.0, 0.0), 2e-19f32);
@@ -316,7 +316,7 @@ fn a_nearer_hit_whose_rounded_t_overflows_is_not_cut_off_by_an_earlier_hit() {
         closest::<f32, Watertight>(&RayLanes::single(&ray), &tris).lane(0),
         closest::<f32x8, Watertight>(&RayLanes::load(&[ray]), &tris).lane(0),
         closest::<f32x8, Exact>(&RayLanes::load(&[ray]), &tris).lane(0),
-        octoray::bvh::traverse::closest_ray::<f32x8, Watertight>(tree.as_ref(), &ray),
+        octoray::scene::closest_ray::<f32x8, Watertight>(tree.as_ref(), &ray),
     ] {
         let h = got.expect("both triangles are hit");
         assert_eq!((h.prim, h.t), (1, 1.5), "{h:?}");
@@ -357,7 +357,7 @@ fn a_sphere_whose_discriminant_overflows_is_a_miss_not_a_hit_at_t_0() {
     // calls an overflowed discriminant a miss; the stable kernel forms √(Δ/4) as √a·√(r² − |l|²),
     // which stays finite here, and finds the f64 tier's hit at every width.
     use octoray::kernels::{NaiveSphere, StableSphere};
-    use octoray::PackedSphere;
+    use octoray::prim::PackedSphere;
     use wide::f64x4;
     let v = Vec3::new;
     let ray = Ray::new(
@@ -369,10 +369,10 @@ fn a_sphere_whose_discriminant_overflows_is_a_miss_not_a_hit_at_t_0() {
     let f64_lanes = closest::<f64x4, StableSphere>(&RayLanes::load(&[ray]), &[sphere]);
     let t = f64_lanes.lane(0).expect("the f64 tier hits").t;
     assert!((t - 1.085205).abs() < 1e-5, "{t}");
-    fn at<L: Lanes, K: Kernel<L, Prim = octoray::PackedSphere>>(
+    fn at<L: Lanes, K: Kernel<L, Prim = octoray::prim::PackedSphere>>(
         ray: &Ray,
-        s: &octoray::PackedSphere,
-    ) -> Option<octoray::Hit> {
+        s: &octoray::prim::PackedSphere,
+    ) -> Option<octoray::hit::Hit> {
         closest::<L, K>(&RayLanes::load(&[*ray]), &[*s]).lane(0)
     }
     let stable = [
@@ -474,8 +474,8 @@ fn a_watertight_t_0_tie_between_duplicates_goes_to_the_lower_index_through_the_b
     let p = RayLanes::<f64x4>::load(&[ray]);
     for got in [
         closest::<f64x4, Watertight>(&p, &tris).lane(0),
-        octoray::bvh::traverse::closest_packet::<f64x4, Watertight>(tree.as_ref(), &p).lane(0),
-        octoray::bvh::traverse::closest_ray::<f64x4, Watertight>(tree.as_ref(), &ray),
+        octoray::scene::closest_packet::<f64x4, Watertight>(tree.as_ref(), &p).lane(0),
+        octoray::scene::closest_ray::<f64x4, Watertight>(tree.as_ref(), &ray),
     ] {
         assert_eq!(got.map(|h| (h.t, h.prim)), Some((0.0, 0)));
     }
@@ -484,12 +484,12 @@ fn a_watertight_t_0_tie_between_duplicates_goes_to_the_lower_index_through_the_b
 /// Untrusted trees: validation in linear time, every accepted tree a tree.
 #[cfg(feature = "alloc")]
 mod untrusted_trees {
-    use octoray::bvh::traverse::{closest_packet, closest_ray, occluded_ray};
     use octoray::bvh::{Bvh8, Bvh8Ref, BvhError, MAX_DEPTH, PAD};
+    use octoray::f32x8;
     use octoray::glam::Vec3;
     use octoray::kernels::Watertight;
-    use octoray::packet::f32x8;
-    use octoray::{Ray, RayLanes, VertexTriangle};
+    use octoray::prim::{Ray, RayLanes, VertexTriangle};
+    use octoray::scene::{closest_packet, closest_ray, occluded_ray};
     use octoray_testkit::trees::{
         chain, shared_chain, take_leaf_tests, triangles, Counting, Slices,
     };
@@ -538,9 +538,9 @@ mod untrusted_trees {
 
     #[test]
     fn the_fullest_stack_a_tree_of_the_depth_limit_allows_is_walked_without_a_panic() {
-        use octoray::bvh::traverse::{closest_t_packet, occluded_packet};
-        use octoray::packet::{f32x16, f32x4};
-        use octoray::LaneMask;
+        use octoray::lanes::LaneMask;
+        use octoray::scene::{closest_t_packet, occluded_packet};
+        use octoray::{f32x16, f32x4};
         use octoray_testkit::trees::bushy_chain;
         let t = bushy_chain(MAX_DEPTH);
         assert_eq!(t.nodes.len(), 8 * (MAX_DEPTH - 1) + 1);
@@ -690,12 +690,12 @@ fn a_batch_length_mismatch_points_at_the_callers_line() {
     }));
     let closest = std::panic::catch_unwind(|| {
         let mut out = [None; 1];
-        octoray::packet::scene::closest::<f32x8, Watertight>(tree.as_ref(), &rays, &mut out)
+        octoray::scene::closest::<f32x8, Watertight>(tree.as_ref(), &rays, &mut out)
     });
     let closest_at = AT.lock().unwrap().take();
     let occluded = std::panic::catch_unwind(|| {
         let mut out = [false; 3];
-        octoray::packet::scene::occluded::<f32x8, Watertight>(tree.as_ref(), &rays, &mut out)
+        octoray::scene::occluded::<f32x8, Watertight>(tree.as_ref(), &rays, &mut out)
     });
     let occluded_at = AT.lock().unwrap().take();
     std::panic::set_hook(hook);
@@ -744,7 +744,7 @@ fn the_exact_tier_misses_where_the_exact_t_is_just_beyond_f32_max() {
             #[cfg(feature = "alloc")]
             {
                 let tree = octoray::bvh::Bvh8::build(&[tri]);
-                let h = octoray::bvh::traverse::closest_ray::<f32x8, Exact>(tree.as_ref(), &ray);
+                let h = octoray::scene::closest_ray::<f32x8, Exact>(tree.as_ref(), &ray);
                 assert_eq!(h.map(|h| h.t), want, "bvh, sign {sign}, origin {origin_z}");
             }
             // With t_min = MAX only the exact t = MAX is left.
@@ -761,7 +761,8 @@ fn the_exact_tier_misses_where_the_exact_t_is_just_beyond_f32_max() {
 fn the_stable_sphere_misses_where_a_times_the_discriminant_would_underflow() {
     // a·(r² − |l|²) = 1e-34·(−1e-12) underflowed to −0, passed `≥ 0`, and the ray hit at
     // t = 1e17, about 10¹² radii from a sphere of radius 1e-18.
-    use octoray::{PackedSphere, StableSphere};
+    use octoray::kernels::StableSphere;
+    use octoray::prim::PackedSphere;
     let s = PackedSphere::new(Vec3::ZERO, 1e-18);
     let ray = Ray::new(Vec3::new(1e-6, 0.0, -1.0), Vec3::new(0.0, 0.0, 1e-17));
     assert_eq!(octoray::intersect::<f32, StableSphere>(&ray, &s), None);
@@ -785,7 +786,8 @@ fn the_stable_sphere_misses_where_a_times_the_discriminant_would_underflow() {
 #[test]
 fn a_hand_built_sphere_with_a_zero_or_subnormal_radius_sq_is_missed_by_brute_force_and_bvh_alike() {
     // radius_sq = 0 was hit at t = 5 by brute force and skipped by the BVH build.
-    use octoray::{NaiveSphere, PackedSphere, StableSphere};
+    use octoray::kernels::{NaiveSphere, StableSphere};
+    use octoray::prim::PackedSphere;
     let ray = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
     for r2 in [0.0, -0.0, 1e-40, -1.0, f32::INFINITY, f32::NAN] {
         let s = PackedSphere {
@@ -800,7 +802,7 @@ fn a_hand_built_sphere_with_a_zero_or_subnormal_radius_sq_is_missed_by_brute_for
             closest::<f32x8, StableSphere>(&p, &[s]).lane(0),
             closest::<f32x8, NaiveSphere>(&p, &[s]).lane(0),
             octoray::intersect::<f64, StableSphere>(&ray, &s),
-            octoray::bvh::traverse::closest_ray::<f32x8, StableSphere>(tree.as_ref(), &ray),
+            octoray::scene::closest_ray::<f32x8, StableSphere>(tree.as_ref(), &ray),
         ];
         assert_eq!(answers, [None; 5], "radius_sq {r2}");
     }
@@ -811,7 +813,7 @@ fn a_hand_built_sphere_with_a_zero_or_subnormal_radius_sq_is_missed_by_brute_for
     };
     let tree = octoray::bvh::Bvh8::build(&[s]);
     let brute = octoray::intersect_sphere(&ray, &s).map(|h| h.t);
-    let bvh = octoray::bvh::traverse::closest_ray::<f32x8, StableSphere>(tree.as_ref(), &ray);
+    let bvh = octoray::scene::closest_ray::<f32x8, StableSphere>(tree.as_ref(), &ray);
     assert!(brute.is_some());
     assert_eq!(bvh.map(|h| h.t), brute);
 }

@@ -4,7 +4,7 @@
 
 use octoray::glam::Vec3;
 use octoray::ingest::{self, IngestError};
-use octoray::{PackedSphere, PackedTriangle, VertexTriangle};
+use octoray::prim::{PackedSphere, PackedTriangle, VertexTriangle};
 
 /// A quad as two triangles, positions flat as a glTF accessor gives them.
 const FLAT: [f32; 12] = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0];

@@ -5,10 +5,11 @@
 use octoray_testkit as testkit;
 
 use octoray::glam::Vec3;
+use octoray::hit::Hit;
 use octoray::kernels::{Exact, Kernel, MollerTrumbore, NaiveSphere, StableSphere, Watertight};
-use octoray::packet::{f32x16, f32x4, f32x8, LaneMask, Lanes};
-use octoray::{query, RayLanes, Scalar, VertexTriangle};
-use octoray::{Hit, PackedTriangle, Ray};
+use octoray::lanes::{LaneMask, Lanes, Scalar};
+use octoray::prim::{PackedTriangle, Ray, RayLanes, VertexTriangle};
+use octoray::{f32x16, f32x4, f32x8, query};
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 use testkit::strategies::*;

@@ -15,10 +15,10 @@
 use octoray_testkit as testkit;
 
 use glam::DVec3;
-use octoray::packet::tiers::MollerTrumbore;
-use octoray::packet::{closest, f32x8};
+use octoray::kernels::MollerTrumbore;
+use octoray::prim::{PackedTriangle, Ray, VertexTriangle};
 use octoray::textbook::{self, InsideTest};
-use octoray::{PackedTriangle, Ray, VertexTriangle};
+use octoray::{closest, f32x8};
 use testkit::Rng;
 
 const MARGIN: f64 = 1e-3;

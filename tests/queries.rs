@@ -9,11 +9,11 @@ use octoray::glam::Vec3;
 use octoray::kernels::{
     Kernel, MollerTrumbore, MollerTrumboreCulled, StableSphere, Watertight, WatertightCulled,
 };
-use octoray::packet::{f32x16, f32x4, f32x8};
+use octoray::lanes::{LaneMask, Lanes, Scalar};
+use octoray::prim::{PackedSphere, PackedTriangle, Ray, RayLanes, VertexTriangle};
 use octoray::query::{closest, closest_t, occluded};
-use octoray::Shade;
-use octoray::{LaneMask, Lanes, RayLanes, Scalar};
-use octoray::{PackedSphere, PackedTriangle, Ray, VertexTriangle};
+use octoray::shading::Shade;
+use octoray::{f32x16, f32x4, f32x8};
 use proptest::prelude::*;
 use testkit::strategies::{pack_triangles, pack_vertex_triangles};
 use testkit::Rng;
@@ -108,7 +108,7 @@ fn culling_drops_exactly_the_back_faces() {
 }
 
 trait With: Sized {
-    fn with(self, h: octoray::Hit) -> (Self, octoray::Hit) {
+    fn with(self, h: octoray::hit::Hit) -> (Self, octoray::hit::Hit) {
         (self, h)
     }
 }
@@ -149,7 +149,8 @@ fn surface_data_faces_the_ray_and_spawns_without_rehits() {
 /// side (t·|d| ≈ 2r), at scales from 1e-3 to 1e4.
 #[test]
 fn sphere_surface_data_faces_the_ray_and_spawns_without_rehits() {
-    use octoray::{Sphere, StableSphere};
+    use octoray::kernels::StableSphere;
+    use octoray::prim::Sphere;
     let mut checked = 0;
     let mut seed = 0x9e37_79b9_u32;
     let mut rnd = move || {

@@ -3,9 +3,11 @@
 #![cfg(all(feature = "triangle", feature = "sphere"))]
 
 use octoray::glam::Vec3;
+use octoray::hit::Hit;
+use octoray::intersect;
+use octoray::kernels::{Exact, MollerTrumbore, Watertight};
+use octoray::prim::{PackedTriangle, Ray, VertexTriangle};
 use octoray::recommend::{recommend, SceneSpec, TierChoice};
-use octoray::{intersect, Exact, MollerTrumbore, Watertight};
-use octoray::{Hit, PackedTriangle, Ray, VertexTriangle};
 
 fn run(tier: TierChoice, ray: &Ray, tri: [Vec3; 3]) -> Option<Hit> {
     let packed = PackedTriangle::new(tri[0], tri[1], tri[2]);

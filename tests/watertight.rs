@@ -55,8 +55,9 @@ fn watertight_tier_has_no_cracks_million_rays() {
 #[test]
 fn f64_watertight_tier_has_no_cracks_and_exact_zero_signs() {
     use octoray::kernels::Watertight;
+    use octoray::lanes::{LaneMask, Scalar};
+    use octoray::prim::RayLanes;
     use octoray::query::occluded;
-    use octoray::{LaneMask, RayLanes, Scalar};
     use testkit::mesh::crack_suite_with;
     use wide::f64x4;
     // The crack suite at f64 lanes: zero escapes.
@@ -107,10 +108,10 @@ fn watertight_tier_has_no_cracks_on_thin_triangles_million_rays() {
 
 /// (rays, watertight escapes brute force + through the BVH, standard escapes).
 fn thin(rays_per_mesh: usize) -> (usize, usize, usize) {
-    use octoray::bvh::traverse::occluded as bvh_occluded;
     use octoray::bvh::Bvh8;
+    use octoray::f32x8;
     use octoray::kernels::{Exact, Watertight};
-    use octoray::packet::f32x8;
+    use octoray::scene::occluded as bvh_occluded;
     use testkit::mesh::{escapes, thin_crack_meshes};
     let (mut total, mut wt, mut std) = (0, 0, 0);
     for (name, mesh, rays) in thin_crack_meshes(rays_per_mesh) {

@@ -11,7 +11,7 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use octoray::bvh::{Bvh8, Bvh8Ref, MAX_DEPTH};
 use octoray::kernels::Watertight;
-use octoray::{Ray, VertexTriangle};
+use octoray::prim::{Ray, VertexTriangle};
 use octoray_benches::scenes::{
     jittered_sphere, packets_closest, singles_any, singles_closest, sponza, SceneSet,
 };

@@ -9,7 +9,7 @@
 #![allow(unsafe_code)] // FFI into the peer; the library crates forbid unsafe code.
 
 use glam::Vec3;
-use octoray::Ray;
+use octoray::prim::Ray;
 use std::ffi::{c_char, c_int, c_uint, c_void};
 use std::time::{Duration, Instant};
 

@@ -13,7 +13,7 @@
 //! - `glam_sphere`: the naive sphere quadratic written by hand on `glam::Vec3A`.
 
 use glam::{Vec3, Vec3A};
-use octoray::Ray;
+use octoray::prim::Ray;
 use parry3d::query::RayCast;
 
 /// glam scalar Möller-Trumbore (1997 form, two-sided, early outs), on precomputed v0, e1, e2.

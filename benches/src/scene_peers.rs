@@ -8,7 +8,7 @@
 //! - [`crate::embree`]: Embree 3 through its C API, loaded at run time.
 
 use glam::Vec3;
-use octoray::Ray;
+use octoray::prim::Ray;
 use std::time::{Duration, Instant};
 
 /// obvhs's CWBVH over a triangle soup.

@@ -3,10 +3,11 @@
 //! and one diffuse bounce per primary hit.
 
 use glam::Vec3;
-use octoray::bvh::traverse::{closest, closest_packet, closest_ray, occluded_packet, occluded_ray};
 use octoray::bvh::{Bvh8, Bvh8Ref};
 use octoray::kernels::{Kernel, Watertight};
-use octoray::{LaneMask, Lanes, Ray, RayLanes, VertexTriangle};
+use octoray::lanes::{LaneMask, Lanes};
+use octoray::prim::{Ray, RayLanes, VertexTriangle};
+use octoray::scene::{closest, closest_packet, closest_ray, occluded_packet, occluded_ray};
 use octoray_testkit::camera::Pinhole;
 use std::path::PathBuf;
 use std::process::Command;

@@ -7,12 +7,11 @@ use glam::Vec3A;
 use octoray::kernels::{
     Exact, Kernel, MollerTrumbore, MollerTrumboreCulled, NaiveSphere, StableSphere, Watertight,
 };
-use octoray::packet::{f32x16, f32x4, f32x8};
-use octoray::query;
+use octoray::lanes::{LaneMask, Lanes};
+use octoray::prim::{PackedSphere, PackedTriangle, Ray, RayLanes, Sphere, VertexTriangle};
+use octoray::shading::Shade;
 use octoray::textbook::{self, InsideTest};
-use octoray::Shade;
-use octoray::{LaneMask, Lanes, RayLanes, VertexTriangle};
-use octoray::{PackedSphere, PackedTriangle, Ray, Sphere};
+use octoray::{f32x16, f32x4, f32x8, query};
 use wide::{f64x4, f64x8};
 
 /// A workload in every layout the entries read, prepared once.

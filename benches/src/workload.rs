@@ -2,8 +2,7 @@
 //! of ray-primitive tests that hit geometrically chosen (0 %, ~50 %, 100 %).
 
 use glam::Vec3;
-use octoray::VertexTriangle;
-use octoray::{PackedSphere, PackedTriangle, Ray};
+use octoray::prim::{PackedSphere, PackedTriangle, Ray, VertexTriangle};
 
 /// Deterministic generator (an LCG) so every run and every peer sees the same data.
 pub struct Lcg(pub u64);

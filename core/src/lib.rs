@@ -1,33 +1,36 @@
-//! `octoray-core`: the `no_std` scalar half of octoray, and the one generic body of every kernel.
+//! `octoray-core`: the `no_std` half of octoray that needs no SIMD crate — the vocabulary (rays,
+//! primitives, hits), the one generic body of every kernel, the BVH as data, and the scalar
+//! twins. `octoray-packet` runs the same bodies on `wide`'s lanes.
 //!
 //! The modules are layers; each imports only from those listed before it:
 //!
-//! - [`lanes`]: the [`Lanes`] trait every body is written against (`f32`, `f64`; the `wide`
-//!   types under the `wide` feature, which only `octoray-packet` turns on) and [`V3`].
-//! - [`prim`]: rays ([`Ray`], [`RayLanes`]) and primitive layouts read as lanes.
-//! - [`hit`]: what a test answers ([`Hit`], [`LanesHit`]) and the range checks.
-//! - [`kernels`]: one file per primitive × algorithm —
-//!   [`kernels::triangle::moller_trumbore`] (standard tier), [`kernels::triangle::watertight`],
-//!   [`kernels::sphere::stable`],
-//!   [`kernels::sphere::naive`] — each the single generic body of its kernel, and the tier types
-//!   over them ([`Kernel`]). At `L = f32` a body is the *scalar twin* of the packet kernel, bit
-//!   for bit; at `f64`/`f64x4`/`f64x8`
-//!   it is the f64 tier.
+//! - [`lanes`]: the [`Lanes`] trait every body is written against (`f32`, `f64`;
+//!   the `wide` types under the `wide` feature, which only `octoray-packet` turns on: the orphan
+//!   rule keeps those impls beside the trait) and [`V3`](lanes::V3).
+//! - [`prim`]: rays ([`Ray`], [`RayLanes`]) and primitive layouts
+//!   read as lanes.
+//! - [`hit`]: what a test answers ([`Hit`], [`LanesHit`](hit::LanesHit)) and the range
+//!   checks.
+//! - [`kernels`]: the tiers as kernel types, and one file per primitive × algorithm
+//!   ([`kernels::triangle::moller_trumbore`] (standard tier), [`kernels::triangle::watertight`],
+//!   [`kernels::triangle::exact`], [`kernels::sphere::stable`], [`kernels::sphere::naive`]), each
+//!   the single generic body of its kernel with its accuracy contract. At `L = f32` a body is the
+//!   *scalar twin* of the packet kernel, bit for bit; at `f64`/`f64x4`/`f64x8` it is the f64 tier.
 //! - [`query`]: closest hit, closest `t` and occlusion of a packet over a slice; [`bvh`]: the
-//!   8-wide BVH over any primitive slice (build under `alloc`, traversal under `wide`).
-//! - [`shading`]: surface data and spawn points ([`Shade`]), [`ingest`], [`recommend`], and
-//!   [`textbook`], the seed sheet's method with every intermediate value observable.
+//!   8-wide BVH's layout, builder (under `alloc`) and validation of untrusted trees.
+//! - [`shading`]: surface data and spawn points, [`ingest`], [`recommend`], and [`textbook`], the
+//!   seed sheet's method with every intermediate value observable.
 //!
-//! Every kernel documents its accuracy contract. No `std`, no allocation, no `unsafe`.
+//! No `std`, no allocation (but the builder and the `Vec` forms of ingest, under `alloc`), no
+//! `unsafe`.
 //!
 //! Cargo features: `triangle` and `sphere` (the primitives; a build with one has none of the
-//! other's code) and `alloc` (`Vec`-returning ingest helpers, the BVH builder), all on by
-//! default; `wide` (the SIMD lane types and BVH traversal), off by default: without it the crate
-//! has no `wide` in its dependency graph.
+//! other's code) and `alloc`, all on by default; `wide` (the `Lanes` impls of the wide types),
+//! off by default: without it the crate has no `wide` in its dependency graph.
 //!
 //! ```
 //! # #[cfg(feature = "triangle")] {
-//! use octoray_core::{glam::Vec3, textbook, Ray, VertexTriangle};
+//! use octoray_core::{glam::Vec3, prim::{Ray, VertexTriangle}, textbook};
 //! let ray = Ray::new(Vec3::new(-4.0, -2.0, -1.0), Vec3::new(1.0, 2.0, 3.0));
 //! let tri = VertexTriangle::new(
 //!     Vec3::new(0.0, 6.0, 7.0),
@@ -63,24 +66,19 @@ pub mod shading;
 pub mod textbook;
 
 pub use glam;
-pub use hit::{Hit, LanesHit};
-pub use kernels::Kernel;
+
+use hit::Hit;
+use kernels::Kernel;
 #[cfg(feature = "triangle")]
-pub use kernels::{
-    Exact, ExactCulled, MollerTrumbore, MollerTrumboreCulled, Watertight, WatertightCulled,
-};
+use kernels::MollerTrumbore;
 #[cfg(feature = "sphere")]
-pub use kernels::{NaiveSphere, StableSphere};
-pub use lanes::{LaneMask, Lanes, Scalar, V3};
+use kernels::StableSphere;
+use lanes::{LaneMask, Lanes, Scalar};
 #[cfg(feature = "sphere")]
-pub use prim::{PackedSphere, Sphere};
+use prim::PackedSphere;
 #[cfg(feature = "triangle")]
-pub use prim::{PackedTriangle, VertexTriangle};
-pub use prim::{Ray, RayLanes};
-#[cfg(any(feature = "triangle", feature = "sphere"))]
-pub use shading::offset::offset_ray_origin;
-#[cfg(any(feature = "triangle", feature = "sphere"))]
-pub use shading::{Shade, Surface};
+use prim::PackedTriangle;
+use prim::{Ray, RayLanes};
 
 /// One ray against one primitive with kernel `K` in one lane of `L` (`f32` for the scalar twin,
 /// `f64` for the f64 tier). `prim` is 0; f64 results are rounded to f32.

@@ -17,7 +17,9 @@
 //! # #[cfg(feature = "triangle")] {
 //! use octoray_core::glam::Vec3;
 //! use octoray_core::query::{occluded, closest, closest_t};
-//! use octoray_core::{LaneMask, MollerTrumbore, MollerTrumboreCulled, PackedTriangle, Ray, RayLanes};
+//! use octoray_core::kernels::{MollerTrumbore, MollerTrumboreCulled};
+//! use octoray_core::lanes::LaneMask;
+//! use octoray_core::prim::{PackedTriangle, Ray, RayLanes};
 //!
 //! let v = Vec3::new;
 //! // Two parallel triangles facing +z at z = 0 and z = -1.
@@ -120,7 +122,7 @@ pub fn closest<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> 
         }
     }
     // The barycentrics were carried as numerators: one division for the winner.
-    let (u, v) = crate::kernels::barycentrics(u, v, scale);
+    let (u, v) = crate::hit::barycentrics(u, v, scale);
     ClosestHit {
         mask: found,
         t,
@@ -132,9 +134,11 @@ pub fn closest<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> 
 
 /// `t` moved up by 2⁻²⁰ relative (and the smallest normal), but never past the caller's `t_max`:
 /// the kernels' `t_max` once a query has a hit at `t`, so that a hit at the same or a nearer
-/// rounded `t` is still reported while far hits are cut off. The BVH uses the same rule.
+/// rounded `t` is still reported while far hits are cut off. The scene walks use the same rule
+/// (not part of the API).
+#[doc(hidden)]
 #[inline(always)]
-pub(crate) fn loosen<L: Lanes>(t: L, t_max: L) -> L {
+pub fn loosen<L: Lanes>(t: L, t_max: L) -> L {
     (t + t.abs() * L::splat(1.0 / 1_048_576.0) + L::splat(f32::MIN_POSITIVE)).min_or_rhs(t_max)
 }
 

@@ -4,14 +4,13 @@
 
 use octoray::bvh::{BuildStats, Bvh8};
 use octoray::glam::{DVec3, Vec3};
-use octoray::ingest;
+use octoray::hit::Hit;
 use octoray::kernels::{Exact, Kernel, MollerTrumbore, StableSphere, Watertight};
-use octoray::packet::{self, scene as bvh};
-use octoray::packet::{f32x16, f32x4, f32x8};
-use octoray::prim::Primitive;
+use octoray::lanes::Lanes;
+use octoray::prim::{PackedSphere, PackedTriangle, Primitive, Ray, Sphere, VertexTriangle};
 use octoray::recommend::{recommend, Recommendation, SceneSpec, TierChoice};
-use octoray::Lanes;
-use octoray::{Hit, PackedSphere, PackedTriangle, Ray, Shade, Sphere, VertexTriangle};
+use octoray::shading::Shade;
+use octoray::{f32x16, f32x4, f32x8, ingest, scene as bvh};
 use octoray_testkit::camera::Pinhole;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -356,7 +355,7 @@ where
             let mut tri_hits = vec![None; primary.len()];
             let mut sphere_hits = vec![None; primary.len()];
             bvh::closest::<L, K>(bvh, &primary, &mut tri_hits);
-            packet::closest::<L, StableSphere>(&primary, &prims.spheres, &mut sphere_hits);
+            octoray::closest::<L, StableSphere>(&primary, &prims.spheres, &mut sphere_hits);
             let hits: Vec<Option<(Hit, bool)>> = tri_hits
                 .iter()
                 .zip(&sphere_hits)
@@ -392,7 +391,7 @@ where
             let mut blocked_by_tri = vec![false; shadow.len()];
             let mut blocked_by_sphere = vec![false; shadow.len()];
             bvh::occluded::<L, K>(bvh, &shadow, &mut blocked_by_tri);
-            packet::occluded::<L, StableSphere>(&shadow, &prims.spheres, &mut blocked_by_sphere);
+            octoray::occluded::<L, StableSphere>(&shadow, &prims.spheres, &mut blocked_by_sphere);
             let lit: Vec<bool> = blocked_by_tri
                 .iter()
                 .zip(&blocked_by_sphere)
@@ -404,7 +403,7 @@ where
                 let mut by_tri = vec![false; ao.len()];
                 let mut by_sphere = vec![false; ao.len()];
                 bvh::occluded::<L, K>(bvh, &ao, &mut by_tri);
-                packet::occluded::<L, StableSphere>(&ao, &prims.spheres, &mut by_sphere);
+                octoray::occluded::<L, StableSphere>(&ao, &prims.spheres, &mut by_sphere);
                 let n = scene.ao_samples as usize;
                 for (k, open) in ao_open.iter_mut().enumerate() {
                     let blocked = (k * n..(k + 1) * n)

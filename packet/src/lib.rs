@@ -1,21 +1,19 @@
-//! `octoray-packet`: the SIMD layer a renderer calls — ray packets and ray slices against
-//! primitive slices and scenes, at every tier and width, on `wide`.
+//! `octoray-packet`: the SIMD layer a renderer calls — slices of rays against slices of
+//! primitives and against scenes, at every tier and lane width, on `wide`.
+//!
+//! `octoray-core` holds the vocabulary (rays, primitives, hits, the tiers' kernels, the BVH as
+//! data) and every kernel's one generic body; this crate runs them on SIMD lanes:
 //!
 //! - Widths: [`f32x4`], [`f32x8`], [`f32x16`] for the f32 tiers, [`f64x4`], [`f64x8`] for the f64
 //!   tier (re-exported, so you never need a matching `wide` version yourself).
-//! - Tiers ([`tiers`]): [`MollerTrumbore`](tiers::MollerTrumbore) (the standard tier),
-//!   [`Watertight`](tiers::Watertight), the culling variants,
-//!   [`StableSphere`](tiers::StableSphere) and [`NaiveSphere`](tiers::NaiveSphere); at an f64
-//!   width any of them is the f64 tier.
 //! - One vocabulary: `closest` (nearest hit with barycentrics and primitive index), `closest_t`
 //!   (nearest `t` only), `occluded` (any hit in range); the module or suffix says what they run
 //!   over:
 //!   - slices of rays against slices of primitives (brute force): [`closest`], [`closest_t`],
 //!     [`occluded`];
-//!   - one packet ([`RayLanes<L>`]) against a slice of primitives: [`query::closest`],
-//!     [`query::closest_t`], [`query::occluded`];
-//!   - against a scene ([`Bvh8`]/[`Bvh8Ref`]): [`scene::closest`], [`scene::occluded`] (slices
-//!     of rays, packets or single rays as fits), `scene::*_packet` (one packet) and
+//!   - one packet against a slice of primitives: `octoray_core::query`;
+//!   - against a scene (`Bvh8`/`Bvh8Ref`): [`scene::closest`], [`scene::occluded`] (slices of
+//!     rays, packets or single rays as fits), `scene::*_packet` (one packet) and
 //!     `scene::*_ray` (one ray).
 //!
 //! Every lane's answer is bit-identical to the scalar twin (`octoray_core::query` at `L = f32`),
@@ -27,8 +25,8 @@
 //!
 //! ```
 //! # #[cfg(feature = "triangle")] {
-//! use octoray_packet::tiers::Watertight;
-//! use octoray_packet::{closest, f32x8, glam::Vec3, Ray, VertexTriangle};
+//! use octoray_core::{glam::Vec3, kernels::Watertight, prim::{Ray, VertexTriangle}};
+//! use octoray_packet::{closest, f32x8};
 //! let tris = [VertexTriangle::new(
 //!     Vec3::new(0.0, 6.0, 7.0),
 //!     Vec3::new(-3.0, 1.0, 5.0),
@@ -44,92 +42,8 @@
 #![no_std]
 #![forbid(unsafe_code)]
 
-#[cfg(feature = "alloc")]
-pub use octoray_core::bvh::{BuildStats, Bvh8};
-pub use octoray_core::bvh::{Bvh8Node, Bvh8Ref, BvhError, BLOCK, PAD};
-pub use octoray_core::query::{self, ClosestHit};
-pub use octoray_core::{glam, Hit, LaneMask, Lanes, Ray, RayLanes};
-#[cfg(feature = "sphere")]
-pub use octoray_core::{PackedSphere, Sphere};
-#[cfg(feature = "triangle")]
-pub use octoray_core::{PackedTriangle, VertexTriangle};
-#[cfg(any(feature = "triangle", feature = "sphere"))]
-pub use octoray_core::{Shade, Surface};
+pub mod scene;
+mod slices;
+
+pub use slices::{closest, closest_t, occluded};
 pub use wide::{f32x16, f32x4, f32x8, f64x4, f64x8};
-
-/// The accuracy tiers (kernel types): pick one per call.
-pub mod tiers {
-    pub use octoray_core::kernels::Kernel;
-    #[cfg(feature = "triangle")]
-    pub use octoray_core::kernels::{
-        Exact, ExactCulled, MollerTrumbore, MollerTrumboreCulled, Watertight, WatertightCulled,
-    };
-    #[cfg(feature = "sphere")]
-    pub use octoray_core::kernels::{NaiveSphere, StableSphere};
-}
-
-use tiers::Kernel;
-
-/// Panics unless `out` has one entry per ray (the `copy_from_slice` convention: a length
-/// mismatch is a caller bug, never silently truncated).
-#[track_caller]
-fn check_len(what: &str, rays: usize, out: usize) {
-    assert_eq!(
-        rays, out,
-        "octoray {what}: {rays} rays but {out} output entries; they must be equal"
-    );
-}
-
-/// Closest hit of every ray over `prims` with tier `K` at width `L`: `out[i]` for `rays[i]`
-/// (`prim` is the index in `prims`).
-///
-/// # Panics
-/// When `out.len() != rays.len()`, or `prims.len() > u32::MAX`.
-pub fn closest<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim], out: &mut [Option<Hit>]) {
-    check_len("closest", rays.len(), out.len());
-    for (chunk, out) in rays.chunks(L::LANES).zip(out.chunks_mut(L::LANES)) {
-        let h = query::closest::<L, K>(&RayLanes::load(chunk), prims);
-        for (i, o) in out.iter_mut().enumerate() {
-            *o = h.lane(i);
-        }
-    }
-}
-
-/// Nearest `t` of every ray (no barycentrics, no index): `out[i]` for `rays[i]`, equal to
-/// [`closest`]'s `t` bit for bit.
-///
-/// # Panics
-/// When `out.len() != rays.len()`.
-pub fn closest_t<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim], out: &mut [Option<f32>]) {
-    check_len("closest_t", rays.len(), out.len());
-    for (chunk, out) in rays.chunks(L::LANES).zip(out.chunks_mut(L::LANES)) {
-        let (m, t) = query::closest_t::<L, K>(&RayLanes::load(chunk), prims);
-        let bits = m.bitmask();
-        for (i, o) in out.iter_mut().enumerate() {
-            *o = ((bits >> i) & 1 == 1).then(|| octoray_core::Scalar::to_f32(t.lane(i)));
-        }
-    }
-}
-
-/// Whether each ray hits anything in its `[t_min, t_max]` (shadow rays): `out[i]` for `rays[i]`.
-///
-/// # Panics
-/// When `out.len() != rays.len()`.
-pub fn occluded<L: Lanes, K: Kernel<L>>(rays: &[Ray], prims: &[K::Prim], out: &mut [bool]) {
-    check_len("occluded", rays.len(), out.len());
-    for (chunk, out) in rays.chunks(L::LANES).zip(out.chunks_mut(L::LANES)) {
-        let bits = query::occluded::<L, K>(&RayLanes::load(chunk), prims).bitmask();
-        for (i, o) in out.iter_mut().enumerate() {
-            *o = (bits >> i) & 1 == 1;
-        }
-    }
-}
-
-/// The same calls against a scene ([`Bvh8`]/[`Bvh8Ref`]): answers equal the brute-force calls
-/// above over the slice the tree was built from, bit for bit.
-pub mod scene {
-    pub use octoray_core::bvh::traverse::{
-        closest, closest_packet, closest_ray, closest_t_packet, occluded, occluded_packet,
-        occluded_ray,
-    };
-}

@@ -3,15 +3,16 @@
 //! traps (lane bounds, length mismatches).
 #![cfg(all(feature = "triangle", feature = "sphere", feature = "alloc"))]
 
+use octoray_core::bvh::Bvh8;
 use octoray_core::glam::Vec3;
-use octoray_packet::tiers::{
+use octoray_core::kernels::{
     Exact, ExactCulled, Kernel, MollerTrumbore, MollerTrumboreCulled, NaiveSphere, StableSphere,
     Watertight, WatertightCulled,
 };
-use octoray_packet::{
-    closest, closest_t, occluded, scene, Bvh8, ClosestHit, Lanes, PackedSphere, PackedTriangle,
-    Ray, RayLanes, VertexTriangle,
-};
+use octoray_core::lanes::Lanes;
+use octoray_core::prim::{PackedSphere, PackedTriangle, Ray, RayLanes, VertexTriangle};
+use octoray_core::query::ClosestHit;
+use octoray_packet::{closest, closest_t, occluded, scene};
 use octoray_packet::{f32x16, f32x4, f32x8, f64x4, f64x8};
 
 fn rays() -> Vec<Ray> {

@@ -4,10 +4,11 @@
 use crate::oracle::{self, SphereTruth};
 use crate::Rng;
 use glam::Vec3;
+use octoray::hit::Hit;
+use octoray::intersect;
 use octoray::kernels::{Exact, MollerTrumbore, NaiveSphere, StableSphere, Watertight};
+use octoray::prim::{PackedSphere, PackedTriangle, Ray, Sphere, VertexTriangle};
 use octoray::textbook::{self, InsideTest, TextbookHit};
-use octoray::{intersect, VertexTriangle};
-use octoray::{Hit, PackedSphere, PackedTriangle, Ray, Sphere};
 
 /// f32 unit roundoff.
 pub const EPS: f64 = 1.0 / 16_777_216.0;

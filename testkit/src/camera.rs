@@ -1,7 +1,7 @@
 //! A pinhole camera: the demo's and the scene benchmarks' primary rays.
 
 use glam::Vec3;
-use octoray::Ray;
+use octoray::prim::Ray;
 
 /// A pinhole camera at `eye` looking at `target`, `+y` up, vertical field of view `fov` (radians).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -10,12 +10,13 @@ pub mod camera;
 pub mod icosphere;
 pub mod mesh;
 pub mod oracle;
+pub mod rays;
 pub mod spawn;
 pub mod strategies;
 pub mod trees;
 
 use octoray::glam::Vec3;
-use octoray::{Ray, Sphere, VertexTriangle};
+use octoray::prim::{Ray, Sphere, VertexTriangle};
 
 /// The ray every seed problem uses.
 pub fn seed_ray() -> Ray {

@@ -2,11 +2,11 @@
 
 use crate::Rng;
 use glam::Vec3;
+use octoray::f32x8;
 use octoray::kernels::{Exact, MollerTrumbore, Watertight};
-use octoray::packet::f32x8;
+use octoray::lanes::LaneMask;
+use octoray::prim::{PackedTriangle, Ray, RayLanes, VertexTriangle};
 use octoray::query::occluded;
-use octoray::{LaneMask, RayLanes, VertexTriangle};
-use octoray::{PackedTriangle, Ray};
 use std::collections::HashMap;
 
 use crate::icosphere;
@@ -137,7 +137,7 @@ pub struct Escapes {
     pub exact: usize,
 }
 
-fn escapes_with<K: octoray::Kernel<f32x8>>(rays: &[Ray], prims: &[K::Prim]) -> usize {
+fn escapes_with<K: octoray::kernels::Kernel<f32x8>>(rays: &[Ray], prims: &[K::Prim]) -> usize {
     rays.chunks(8)
         .map(|c| {
             let p = RayLanes::<f32x8>::load(c);

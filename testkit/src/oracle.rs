@@ -7,7 +7,7 @@ use crate::ordered;
 use glam::Vec3;
 use num_bigint::BigInt;
 use num_traits::{Signed, ToPrimitive, Zero};
-use octoray::Ray;
+use octoray::prim::Ray;
 use std::cmp::Ordering;
 
 /// An f32 as (mantissa, exponent) with x = m·2^e exactly (None for NaN/Inf).
@@ -223,7 +223,7 @@ pub fn triangle(ray: &Ray, v: [Vec3; 3]) -> TriangleTruth {
     triangle_impl(ray, v, false)
 }
 
-/// The exact answer for the triangle a [`octoray::PackedTriangle`] describes: `v0`, `v0 + e1`,
+/// The exact answer for the triangle a [`octoray::prim::PackedTriangle`] describes: `v0`, `v0 + e1`,
 /// `v0 + e2` with the f32-rounded edges `e1 = v1 − v0`, `e2 = v2 − v0` (sums exact): what the
 /// Möller-Trumbore tiers read.
 pub fn triangle_packed(ray: &Ray, v: [Vec3; 3]) -> TriangleTruth {

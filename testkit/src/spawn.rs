@@ -2,8 +2,11 @@
 //! any scale, a hit, its surface, and rays leaving it on both sides, which must not re-hit.
 
 use crate::Rng;
+use octoray::hit::Hit;
+use octoray::intersect;
 use octoray::kernels::{Exact, MollerTrumbore, StableSphere, Watertight};
-use octoray::{intersect, Hit, PackedSphere, PackedTriangle, Ray, Shade, Sphere, VertexTriangle};
+use octoray::prim::{PackedSphere, PackedTriangle, Ray, Sphere, VertexTriangle};
+use octoray::shading::Shade;
 
 /// A tier's closest hit of one ray on one triangle.
 pub type TriangleTier = fn(&Ray, &VertexTriangle) -> Option<Hit>;
@@ -52,7 +55,7 @@ pub struct SpawnCount {
 fn spawn_rays(
     rng: &mut Rng,
     ray: &Ray,
-    surf: octoray::Surface,
+    surf: octoray::shading::Surface,
     through: bool,
     rehit: impl Fn(&Ray) -> Option<Hit>,
     what: &str,

@@ -1,7 +1,7 @@
 //! proptest generators: random and adversarial rays, triangles and spheres.
 
 use octoray::glam::Vec3;
-use octoray::{PackedSphere, PackedTriangle, Ray, VertexTriangle};
+use octoray::prim::{PackedSphere, PackedTriangle, Ray, VertexTriangle};
 use proptest::prelude::*;
 
 /// A float from a mix that includes what breaks kernels: normal range mostly, then huge,

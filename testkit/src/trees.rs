@@ -4,11 +4,12 @@
 //! leaf tests a query makes, so a test can bound the work of a query on an accepted tree.
 
 use crate::Rng;
-use octoray::bvh::{Bvh8, Bvh8Node, BLOCK, EMPTY, PAD, WIDTH};
+use octoray::bvh::{Bvh8, Bvh8Node, EMPTY, PAD, WIDTH};
 use octoray::glam::Vec3;
-use octoray::kernels::{Kernel, LanesHit, Watertight};
-use octoray::prim::{Primitive, Words};
-use octoray::{Lanes, RayLanes, VertexTriangle};
+use octoray::hit::LanesHit;
+use octoray::kernels::{Kernel, Watertight};
+use octoray::lanes::Lanes;
+use octoray::prim::{Primitive, RayLanes, VertexTriangle, Words, BLOCK};
 use std::cell::Cell;
 
 /// A tree as the three slices `Bvh8Ref::new` takes, and the caller's primitive count.

@@ -2,12 +2,11 @@
 #![no_std]
 
 use octoray_core::glam::Vec3;
-use octoray_core::{PackedSphere, PackedTriangle, Ray};
-use octoray_core::bvh::{traverse, Bvh8Node, Bvh8Ref, BLOCK};
-use octoray_core::kernels::Watertight;
-use octoray_core::VertexTriangle;
-use octoray_packet::tiers::{StableSphere, MollerTrumbore};
-use octoray_packet::{f32x8, LaneMask, RayLanes};
+use octoray_core::bvh::{Bvh8Node, Bvh8Ref};
+use octoray_core::kernels::{MollerTrumbore, StableSphere, Watertight};
+use octoray_core::lanes::LaneMask;
+use octoray_core::prim::{PackedSphere, PackedTriangle, Ray, RayLanes, VertexTriangle, BLOCK};
+use octoray_packet::{f32x8, scene};
 
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo) -> ! {
@@ -21,8 +20,8 @@ pub extern "C" fn octoray_nostd_probe(x: f32) -> u32 {
     let tri = PackedTriangle::new(Vec3::new(0.0, 6.0, 7.0), Vec3::new(-3.0, 1.0, 5.0), Vec3::new(-2.0, 1.0, 4.0));
     let sph = PackedSphere::new(Vec3::ZERO, 10.0);
     let p = RayLanes::<f32x8>::load(&[ray; 5]);
-    let t = octoray_packet::query::closest::<_, MollerTrumbore>(&p, &[tri]).mask.bitmask();
-    let s = octoray_packet::query::occluded::<_, StableSphere>(&p, &[sph]).bitmask();
+    let t = octoray_core::query::closest::<_, MollerTrumbore>(&p, &[tri]).mask.bitmask();
+    let s = octoray_core::query::occluded::<_, StableSphere>(&p, &[sph]).bitmask();
     let scalar = octoray_core::intersect_triangle(&ray, &tri).is_some() as u32;
     t ^ (s << 8) ^ (scalar << 16)
 }
@@ -42,8 +41,8 @@ pub extern "C" fn octoray_nostd_bvh_probe(
     };
     let ray = Ray::new(Vec3::new(x, 0.25, -1.0), Vec3::new(0.0, 0.0, 1.0));
     let packet = RayLanes::<f32x8>::load(&[ray; 3]);
-    let p = traverse::closest_packet::<f32x8, Watertight>(bvh, &packet);
-    match traverse::closest_ray::<f32x8, Watertight>(bvh, &ray) {
+    let p = scene::closest_packet::<f32x8, Watertight>(bvh, &packet);
+    match scene::closest_ray::<f32x8, Watertight>(bvh, &ray) {
         Some(h) => h.prim ^ (p.mask.bitmask() << 8),
         None => u32::MAX,
     }

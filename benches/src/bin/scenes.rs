@@ -8,7 +8,7 @@
 
 use octoray::bvh::{Bvh8, Bvh8Ref};
 use octoray::kernels::{MollerTrumbore, Watertight};
-use octoray::{PackedTriangle, VertexTriangle};
+use octoray::prim::{PackedTriangle, VertexTriangle};
 use octoray_benches::embree::EmbreeScene;
 use octoray_benches::scene_peers::{BvhScene, ObvhsScene};
 use octoray_benches::scenes::{

@@ -11,8 +11,10 @@
 use octoray_testkit as testkit;
 
 use glam::Vec3;
+use octoray::hit::Hit;
+use octoray::intersect;
 use octoray::kernels::{Exact, Watertight};
-use octoray::{intersect, Hit, Ray, RayLanes, VertexTriangle};
+use octoray::prim::{Ray, RayLanes, VertexTriangle};
 use octoray_benches::peers::TrianglePeer;
 use octoray_benches::report::{self, Report};
 use octoray_benches::speed::{entry, Prepared};

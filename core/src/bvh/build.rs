@@ -5,7 +5,7 @@
 //! index, so the same input gives the same tree bit for bit on every build; with threads
 //! ([`Bvh8::try_build_with`]) too, since each half of a split only touches its own items.
 
-use super::{slab::widen, Bvh8Node, Bvh8Ref, BvhError, MAX_DEPTH, MAX_PRIMS, PAD, WIDTH};
+use super::{Bvh8Node, Bvh8Ref, BvhError, MAX_DEPTH, MAX_PRIMS, PAD, WIDTH};
 use crate::prim::{Aabb, Primitive, BLOCK};
 use alloc::vec;
 use alloc::vec::Vec;
@@ -489,4 +489,15 @@ fn partition(items: &mut [Item], scratch: &mut Vec<Item>, left: impl Fn(&Item) -
     }
     items[k..].copy_from_slice(scratch);
     k
+}
+
+/// The box slack of a box at build time: `lo`, `hi` moved outward by [`super::SLACK`] of the
+/// box's largest coordinate magnitude, then by one ulp.
+fn widen(lo: [f32; 3], hi: [f32; 3]) -> ([f32; 3], [f32; 3]) {
+    let m = (0..3).fold(0.0f32, |m, k| m.max(lo[k].abs()).max(hi[k].abs()));
+    let delta = m * super::SLACK;
+    (
+        core::array::from_fn(|k| (lo[k] - delta).next_down()),
+        core::array::from_fn(|k| (hi[k] + delta).next_up()),
+    )
 }

@@ -1,4 +1,5 @@
-//! Scene-scale queries: an 8-wide bounding volume hierarchy over any [`Primitive`] layout.
+//! The 8-wide bounding volume hierarchy as data: its node layout, the builder and the
+//! validation of untrusted trees. The walks over it are `octoray-packet`'s `scene` module.
 //!
 //! - [`Bvh8Node`]: one node, eight children's boxes in SoA (`lo[axis][child]`,
 //!   `hi[axis][child]`, f32) and their references; 256 bytes, `bytemuck::Pod`.
@@ -7,49 +8,29 @@
 //!   SoA blocks of [`BLOCK`], their indices in the caller's slice). Traversal needs nothing
 //!   else: no allocator, no `std`. A tree built on a host can be written out with `bytemuck`
 //!   and traversed on a target from `&'static` data, after [`Bvh8Ref::new`] has validated it.
-//! - Traversal ([`traverse`]): single rays (one ray against the eight children of a node in one
-//!   `f32x8` box test; leaves tested a block at a time, one vector load per word) and packets
-//!   (the packet's active mask goes down the tree together; a packet that thins out continues
-//!   ray by ray), generic over the kernel tiers and the query kinds.
+//!
+//! # Boxes
+//! Every box is conservative: it holds its primitives exactly as the kernels read them, grown by
+//! [`SLACK`] of its largest coordinate magnitude and one ulp, so that no kernel hit (whose
+//! rounding may place it slightly outside the exact primitive) lies outside the box of its leaf.
+//! Primitives with a non-finite coordinate are left out of the tree (no kernel can hit them).
+//! Primitive indices are `u32`, and a tree holds at most [`MAX_PRIMS`] primitives.
 //!
 //! # Untrusted trees
 //! [`Bvh8Ref::new`] takes any bytes: it answers `Ok` or a [`BvhError`], never panics, in time
 //! linear in the slices' length and without an allocator. A tree it accepts is a tree (every
 //! node but the root has exactly one parent; no node is shared, none is unreachable), no deeper
 //! than [`MAX_DEPTH`], whose leaves cover the blocks once and hold indices below the caller's
-//! primitive count. On such a tree every query of [`traverse`] runs without panicking or
-//! indexing out of bounds, visits each node and tests each primitive at most once per ray, and
-//! reports only primitive indices below [`Bvh8Ref::prims`]. The boxes are not checked against
-//! the primitives: a tree with wrong boxes gives wrong answers (only the built or faithfully
-//! stored tree equals brute force), never a crash or a long walk.
-//!
-//! # Contract
-//! The answers equal the brute-force queries of [`crate::query`] over the caller's slice, bit for
-//! bit (hit/miss, `t`, `u`, `v`), with the same tie rule: among hits with equal `t`, the lowest
-//! primitive index wins. That holds because every box test is conservative ([`slab`]): a box is
-//! skipped only when no kernel can report a hit inside it, including hits its rounding places
-//! slightly outside the exact primitive (the boxes carry a slack of 2⁻¹⁷ of the coordinates'
-//! magnitude, ≈ 128 ulp, and the ray's origin adds its own). The exception: the boxes' slack
-//! covers a kernel's `t` error up to about `128·ε·reach`, while the kernels' contracts allow
-//! `8·ε·max(t, reach)/(|cos θ|·sin α)`. When a kernel's `t` error exceeds the slack (a ray
-//! meeting a triangle at |cos θ|·sin α ≲ 1/16, from far away) *and* another hit lies within that
-//! error of it (or `t_min`/`t_max` does), which one is nearest is undecidable at the tier's
-//! accuracy, and the tree may report the other: a hit either way, within the tier's `t` error of
-//! brute force's. The same holds where the kernels underflow (`ρ²·t ≲ 1e-30`, see the watertight
-//! contract). The fuzz harness found both (tests/fuzz.rs checks exactly this allowance); on the
-//! proptest scenes of `tests/bvh.rs` the answers are bit-equal.
-//!
-//! Primitives with a non-finite coordinate are left out of the tree (no kernel can hit them).
-//! Primitive indices are `u32`, and a tree holds at most [`MAX_PRIMS`] primitives.
+//! primitive count. On such a tree every walk runs without panicking or indexing out of bounds,
+//! visits each node and tests each primitive at most once per ray, and reports only primitive
+//! indices below [`Bvh8Ref::prims`]. The boxes are not checked against the primitives: a tree
+//! with wrong boxes gives wrong answers (only the built or faithfully stored tree equals brute
+//! force), never a crash or a long walk.
 
 #[cfg(feature = "alloc")]
 mod build;
-pub mod slab;
-#[cfg(feature = "wide")]
-pub mod traverse;
 
-use crate::prim::Primitive;
-pub use crate::prim::BLOCK;
+use crate::prim::{Primitive, BLOCK};
 
 /// Children per node.
 pub const WIDTH: usize = 8;
@@ -61,8 +42,16 @@ pub const MAX_PRIMS: usize = (1 << 31) - 1;
 /// never makes one).
 pub const MAX_DEPTH: usize = 64;
 
+/// Relative slack of boxes and origins: 2⁻¹⁷ (≈ 128 ulp of f32) of the largest coordinate
+/// magnitude. It covers every tier's hit/miss margin (≤ 64·ε of the distance from the origin to
+/// the primitive's vertices, measured in the accuracy report), so no kernel hit lies outside a
+/// box the traversal visits.
+pub const SLACK: f32 = 1.0 / 131_072.0;
+
 /// Traversal stack capacity: a depth-first walk holds at most `WIDTH − 1` siblings per level.
-pub(crate) const STACK: usize = (WIDTH - 1) * MAX_DEPTH + 1;
+/// The validation and the walks share it (not part of the API).
+#[doc(hidden)]
+pub const STACK: usize = (WIDTH - 1) * MAX_DEPTH + 1;
 
 /// A child slot that holds nothing.
 pub const EMPTY: u32 = u32::MAX;
@@ -319,10 +308,10 @@ impl<'a, P: Primitive> Bvh8Ref<'a, P> {
         self.blocks
     }
 
-    /// Rows of the block holding slot `k`.
-    #[cfg(feature = "wide")]
+    /// Rows of the block holding slot `k` (for the walks; not part of the API).
+    #[doc(hidden)]
     #[inline(always)]
-    pub(crate) fn block_of(&self, k: usize) -> &'a [[f32; BLOCK]] {
+    pub fn block_of(&self, k: usize) -> &'a [[f32; BLOCK]] {
         let at = k / BLOCK * P::WORDS;
         &self.blocks[at..at + P::WORDS]
     }

@@ -11,7 +11,7 @@
 //! | sphere naive | [`NaiveSphere`] | [`PackedSphere`] | [`crate::kernels::sphere::naive`] |
 //!
 //! The f64 tier reads the same f32 primitives and rays (widened exactly) and computes in f64;
-//! reported `t` is rounded once to f32 when read out as a [`crate::Hit`], and only hits whose `t`
+//! reported `t` is rounded once to f32 when read out as a [`crate::hit::Hit`], and only hits whose `t`
 //! is representable as a finite f32 are reported. Its contract: `|t − t_exact| ≤ 2·ε·scale` in
 //! the standard tier's terms (measured ≤ 1.0: the final rounding to f32), no overflow or
 //! underflow for coordinates whose products fit f64 (tested from 1e-40 to 1e19), and the same
@@ -30,7 +30,7 @@ use crate::prim::PackedSphere;
 use crate::prim::RayLanes;
 use crate::prim::{One, Primitive, Words};
 
-pub use crate::hit::{barycentrics, LanesHit};
+use crate::hit::LanesHit;
 #[cfg(feature = "triangle")]
 use crate::prim::{PackedTriangle, VertexTriangle};
 

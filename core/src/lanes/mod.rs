@@ -132,7 +132,8 @@ impl Scalar for f64 {
 }
 
 /// Most lanes any [`Lanes`] type has (`f32x16`): the size of fixed per-lane scratch arrays.
-pub(crate) const MAX_LANES: usize = 16;
+#[doc(hidden)]
+pub const MAX_LANES: usize = 16;
 
 /// `LANES` values of `f32` or `f64` processed together, with only IEEE-exact operations.
 ///

@@ -164,7 +164,7 @@ pub trait Primitive: Copy + bytemuck::Pod {
 /// in each lane. The crate implements it for one primitive broadcast (what [`Primitive::splat`]
 /// reads, also from a SoA block), for primitives one after another (what [`Primitive::gather`]
 /// reads), for SoA blocks (what [`Primitive::load_block`] reads) and, for layouts of points, for
-/// any of them with the axes of every point permuted; a custom [`crate::Kernel`] reads its
+/// any of them with the axes of every point permuted; a custom [`crate::kernels::Kernel`] reads its
 /// primitive through it.
 pub trait Words {
     /// Word `k` of each lane's primitive.
@@ -195,14 +195,14 @@ impl<P: bytemuck::Pod> Words for One<'_, P> {
 }
 
 /// Primitive `i` of a SoA block in every lane (a packet of rays against one primitive of a
-/// BVH leaf): each word broadcast straight from its row.
-#[cfg(feature = "wide")]
-pub(crate) struct BlockLane<'a> {
+/// BVH leaf): each word broadcast straight from its row. For the scene walks; not part of the
+/// API.
+#[doc(hidden)]
+pub struct BlockLane<'a> {
     rows: &'a [[f32; BLOCK]],
     i: usize,
 }
 
-#[cfg(feature = "wide")]
 impl<'a> BlockLane<'a> {
     /// Primitive `i` of a SoA block of `P`.
     ///
@@ -218,7 +218,6 @@ impl<'a> BlockLane<'a> {
     }
 }
 
-#[cfg(feature = "wide")]
 impl Words for BlockLane<'_> {
     #[inline(always)]
     fn word<L: Lanes>(&self, k: usize) -> L {
@@ -260,8 +259,9 @@ impl<P: bytemuck::Pod> Words for Rows<P> {
     }
 }
 
-/// A SoA block's rows, read from primitive `first` on.
-pub(crate) struct BlockRows<'a> {
+/// A SoA block's rows, read from primitive `first` on. For the scene walks; not part of the API.
+#[doc(hidden)]
+pub struct BlockRows<'a> {
     rows: &'a [[f32; BLOCK]],
     first: usize,
 }

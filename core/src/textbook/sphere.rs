@@ -1,9 +1,4 @@
-//! Textbook ray-sphere: the quadratic `A t² + B t + C = 0` with `f = o − c`.
-//!
-//! Accuracy: with small integer inputs (as on the sheet) `A`, `B`, `C` and the discriminant are
-//! exact and each root is within 2 ulp (one rounding each for `√disc`, `−B ± √disc` and the
-//! division by `2A`). In general the form is not sound: `C = f·f − r²` and `B² − 4AC` cancel for
-//! small distant spheres, so hit/miss can be wrong; see [`crate::kernels::sphere::stable`].
+//! The textbook ray-sphere test, line by line (its accuracy: the [module docs](super)).
 
 use super::TextbookHit;
 use crate::prim::{Ray, Sphere};

@@ -1,10 +1,4 @@
-//! Textbook ray-triangle: intersect the plane, then the inside-outside test with cross products.
-//!
-//! Accuracy: `n`, `d·n` and the numerator are each a few roundings of the inputs; with small
-//! integer inputs (as on the sheet) every one of them is exact. `t` is one correctly rounded
-//! division of those, `p` two more roundings per component. The inside-outside decision is not
-//! robust: points within rounding of an edge can be decided either way, and neighbouring
-//! triangles can both miss (cracks). The packet kernels and the accuracy tiers address that.
+//! The textbook ray-triangle test, line by line (its accuracy: the [module docs](super)).
 
 use super::TextbookHit;
 use crate::prim::{Ray, VertexTriangle};

@@ -37,7 +37,7 @@
 //!   filter and a fifth of them (exact ties) reach the integer stage.
 //! - Bit-identical across `f32` and `f32x4/x8/x16` and across builds (proptested, digest): the
 //!   fallback is scalar f64 and integer arithmetic with no FMA.
-//! - Closest-hit queries give the exact tier the caller's `t_max` ([`crate::Kernel::EXACT_T_MAX`])
+//! - Closest-hit queries give the exact tier the caller's `t_max` ([`crate::kernels::Kernel::EXACT_T_MAX`])
 //!   and order its hits by the rounded `t`: two hits whose exact `t` differ by less than their
 //!   rounding may come back in either order, and the tie rule picks the lower index.
 //! - Since `t ≤ t_max` is decided on the exact `t` and a filter lane reports the watertight

@@ -22,15 +22,9 @@
 //! on both faces). A subnormal component whose reciprocal overflows is treated the same way: that
 //! axis does not bound the ray. The test is then only looser, never wrong.
 
-use crate::lanes::Lanes;
-use crate::lanes::V3;
-use crate::prim::RayLanes;
-
-/// Relative slack of boxes and origins: 2⁻¹⁷ (≈ 128 ulp of f32) of the largest coordinate
-/// magnitude. It covers every tier's hit/miss margin (≤ 64·ε of the distance from the origin to
-/// the primitive's vertices, measured in the accuracy report), so no kernel hit lies outside a
-/// box the traversal visits.
-pub const SLACK: f32 = 1.0 / 131_072.0;
+use octoray_core::bvh::SLACK;
+use octoray_core::lanes::{LaneMask, Lanes, Scalar, MAX_LANES, V3};
+use octoray_core::prim::RayLanes;
 
 /// The slab test's relative widening, 2⁻²¹ = 8ε (ε = 2⁻²⁴): applied as a product
 /// `t·(1 ± 2⁻²¹)` rounded once, it moves `t` by at least `7ε` of itself, more than
@@ -162,7 +156,7 @@ pub fn slab_planes<L: Lanes>(entry: V3<L>, exit: V3<L>, r: &BoxRay<L>, t_max: L)
 /// by at least `7ε > 2γ₃`. The absolute part covers distances in the subnormal range (huge
 /// directions), where a rounding is off by up to 2⁻¹⁵⁰ whatever the value; on the far side
 /// only, since only `near ≤ far` is decided. Two products side by side and a `min` or `max`
-/// keep the node test's latency chain short (the `|t|·c` form added 10 cycles to it).
+/// keep the node test's latency chain short.
 #[inline(always)]
 fn widen_range<L: Lanes>(near: L, far: L, k: u8) -> (L, L) {
     let w = f32::from(k) * WIDEN;
@@ -186,7 +180,6 @@ fn widen_range<L: Lanes>(near: L, far: L, k: u8) -> (L, L) {
 /// final widening uses twice [`slab`]'s, which covers the rounding of the widening itself; a
 /// NaN anywhere only loosens the test (it is skipped by the reductions, and a NaN comparison
 /// keeps the child).
-#[cfg(feature = "wide")]
 #[derive(Clone, Copy, Debug)]
 pub struct Frustum {
     /// Per axis: the node row of the entry face and of the exit face (rows 0–2 lower, 3–5 upper).
@@ -202,12 +195,10 @@ pub struct Frustum {
     t_min: f32,
 }
 
-#[cfg(feature = "wide")]
 impl Frustum {
     /// The frustum of the valid lanes of `r`, or `None` when their direction signs differ on
     /// some axis, no lane is valid, or the lanes are not f32.
     pub fn new<L: Lanes>(r: &BoxRay<L>) -> Option<Self> {
-        use crate::lanes::{LaneMask, Scalar};
         if <L::Scalar as Scalar>::UNIT_ROUNDOFF != f64::from(f32::EPSILON) / 2.0 {
             return None;
         }
@@ -257,7 +248,6 @@ impl Frustum {
     /// bound).
     #[inline(always)]
     pub fn children(&self, rows: &[[f32; 8]; 8], t_max: f32) -> u32 {
-        use crate::lanes::LaneMask;
         use wide::f32x8;
         let (mut near, mut far) = (f32x8::splat(self.t_min), f32x8::splat(t_max));
         for k in 0..3 {
@@ -279,12 +269,10 @@ impl Frustum {
 /// The smallest (`max = false`) or largest lane of `x` among the lanes set in `m`, as f32 (+inf
 /// or −inf when `m` is empty). Lanes must not be NaN (a NaN lane may or may not be skipped).
 ///
-/// A tree of one-instruction compares: a packet waits for these reductions' latency (a serial
-/// fold of `f32::min` took ~4 cycles a lane), not for their count.
-#[cfg(feature = "wide")]
+/// A tree of one-instruction compares: a packet waits for these reductions' latency, not for
+/// their count, and a tree is shorter than a serial fold.
 #[inline(always)]
 pub(crate) fn extreme_lane<L: Lanes>(x: L, m: L::Mask, max: bool) -> f32 {
-    use crate::lanes::{Scalar, MAX_LANES};
     let id = if max {
         f32::NEG_INFINITY
     } else {
@@ -306,22 +294,10 @@ pub(crate) fn extreme_lane<L: Lanes>(x: L, m: L::Mask, max: bool) -> f32 {
     a[0]
 }
 
-/// The box slack of a box at build time: `lo`, `hi` moved outward by [`SLACK`] of the box's
-/// largest coordinate magnitude, then by one ulp.
-pub fn widen(lo: [f32; 3], hi: [f32; 3]) -> ([f32; 3], [f32; 3]) {
-    let m = (0..3).fold(0.0f32, |m, k| m.max(lo[k].abs()).max(hi[k].abs()));
-    let delta = m * SLACK;
-    (
-        core::array::from_fn(|k| (lo[k] - delta).next_down()),
-        core::array::from_fn(|k| (hi[k] + delta).next_up()),
-    )
-}
-
 /// `t` moved up so that a kernel hit at exactly `t` passes the kernels' scaled range test: the
 /// traversal's `t_max` once it has a hit at `t` (the final choice compares exactly).
 #[inline(always)]
-#[cfg(feature = "wide")]
-pub(crate) fn loosen<S: crate::lanes::Scalar>(t: S) -> S {
+pub(crate) fn loosen<S: Scalar>(t: S) -> S {
     let x = t.to_f64();
     S::from_f64(x + x.abs() * (1.0 / 1_048_576.0) + f64::from(f32::MIN_POSITIVE))
 }

@@ -1,28 +1,13 @@
-//! Traversal of a [`Bvh8Ref`], generic over the kernel tier `K` and the lane width `L`.
-//!
-//! | call | rays | how |
-//! |---|---|---|
-//! | [`closest_ray`], [`occluded_ray`] | one | one `f32x8` box test per node (its eight children, on the entry and exit faces picked once per ray); closest hit visits children near-first, occlusion in any order; leaves tested a SoA block of [`BLOCK`] primitives at a time |
-//! | [`closest_packet`], [`closest_t_packet`], [`occluded_packet`] | `L::LANES` | the packet's active mask goes down the tree together, children visited near-first by the packet's entry distance (occlusion: in any order); a coherent f32 packet (one direction octant) first tests a node's eight boxes against its frustum in one `f32x8` test ([`Frustum`]) and lane by lane only the children that pass; when a node is reached by at most a quarter of the lanes (and at most 2), those continue ray by ray (hybrid traversal) |
-//! | [`closest`], [`occluded`] | any slice | packets where a packet's rays share a direction octant (coherent), single rays elsewhere |
-//!
-//! Every answer equals the brute-force query of [`crate::query`] over the caller's slice (see the
-//! [module contract](super)): same hit/miss, same `t`, `u`, `v` bits, same primitive index
-//! (ties in `t` go to the lower index). On any tree [`Bvh8Ref::new`] accepted, built or read
-//! from untrusted bytes, every call here is total: no panic (but the documented length checks
-//! of [`closest`] and [`occluded`]), each node visited and each primitive tested at most once per
-//! ray, and every reported `prim` below [`Bvh8Ref::prims`] ([untrusted trees](super#untrusted-trees)).
+//! The walks: one ray, one packet, a slice of rays.
 
 use super::slab::{extreme_lane, loosen, slab, slab_planes, BoxRay, Frustum};
-use super::{Bvh8Ref, STACK, WIDTH};
-use crate::hit::Hit;
-use crate::kernels::{barycentrics, Kernel};
-use crate::lanes::V3;
-use crate::lanes::{LaneMask, Lanes, Scalar};
-use crate::prim::{BlockLane, BlockRows, BLOCK};
-use crate::prim::{Ray, RayLanes};
-use crate::query::ClosestHit;
 use arrayvec::ArrayVec;
+use octoray_core::bvh::{Bvh8Ref, EMPTY, STACK, WIDTH};
+use octoray_core::hit::{barycentrics, Hit};
+use octoray_core::kernels::Kernel;
+use octoray_core::lanes::{LaneMask, Lanes, Scalar, V3};
+use octoray_core::prim::{BlockLane, BlockRows, Ray, RayLanes, BLOCK};
+use octoray_core::query::ClosestHit;
 use wide::f32x8;
 
 /// A stack entry: a child slot's reference (`count == 0`: inner node) and where the ray enters.
@@ -164,7 +149,7 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
                         let i = bits.trailing_zeros() as usize;
                         bits &= bits - 1;
                         let t = h.t.lane(i);
-                        let id = bvh.ids[at + sub + i];
+                        let id = bvh.ids()[at + sub + i];
                         if better(t, id, best) {
                             *best = Some(Best {
                                 t,
@@ -180,7 +165,7 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
             cull = f32_bound(bound(t_max, best));
             continue;
         }
-        let node = &bvh.nodes[e.child as usize];
+        let node = &bvh.nodes()[e.child as usize];
         let rows: &[[f32; WIDTH]; 8] = bytemuck::cast_ref(node);
         let row = |i: usize| f32x8::from(rows[i]);
         let (mask, near) = slab_planes(
@@ -202,7 +187,7 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
         if bits & (bits - 1) == 0 {
             // One child: visit it next.
             let s = bits.trailing_zeros() as usize;
-            if node.child[s] != super::EMPTY {
+            if node.child[s] != EMPTY {
                 cur = Some(entry(s));
             }
             continue;
@@ -217,10 +202,10 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
             );
             let (near_s, far_s) = if near[b] < near[a] { (b, a) } else { (a, b) };
             // Empty slots hold inverted boxes, which no finite ray enters; skip them anyway.
-            if node.child[far_s] != super::EMPTY {
+            if node.child[far_s] != EMPTY {
                 stack.push(entry(far_s));
             }
-            if node.child[near_s] != super::EMPTY {
+            if node.child[near_s] != EMPTY {
                 cur = Some(entry(near_s));
             }
             continue;
@@ -242,11 +227,11 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
                 exchange(&mut keys, &mut slots, a, b);
             }
             for &s in slots[1..n].iter().rev() {
-                if node.child[s as usize] != super::EMPTY {
+                if node.child[s as usize] != EMPTY {
                     stack.push(entry(s as usize));
                 }
             }
-            if node.child[slots[0] as usize] != super::EMPTY {
+            if node.child[slots[0] as usize] != EMPTY {
                 cur = Some(entry(slots[0] as usize));
             }
             continue;
@@ -267,7 +252,7 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
             n += 1;
         }
         for &s in &order[..n] {
-            if node.child[s as usize] != super::EMPTY {
+            if node.child[s as usize] != EMPTY {
                 stack.push(entry(s as usize));
             }
         }
@@ -294,7 +279,7 @@ fn single<L: Lanes, K: Kernel<L>, const ANY: bool>(
     ray: &Ray,
 ) -> (bool, Option<Best<L::Scalar>>) {
     let mut best = None;
-    if bvh.nodes.is_empty() {
+    if bvh.nodes().is_empty() {
         return (false, best);
     }
     let rl = RayLanes::<L>::broadcast(ray);
@@ -362,7 +347,7 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
         id: L::splat_index(0),
     };
     let br = BoxRay::new(rays);
-    if bvh.nodes.is_empty() || br.valid.none() {
+    if bvh.nodes().is_empty() || br.valid.none() {
         return best;
     }
     let pre = K::prepare(rays);
@@ -425,7 +410,7 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
                     best.v = L::select(m, L::splat_scalar(o.v), best.v);
                     best.scale = L::select(m, L::splat_scalar(o.scale), best.scale);
                     best.id = L::select_index(m, L::splat_index(o.id), best.id);
-                    cull = L::select(m, crate::query::loosen(best.t, rays.t_max), cull);
+                    cull = L::select(m, octoray_core::query::loosen(best.t, rays.t_max), cull);
                     cull_moved = true;
                 }
             }
@@ -441,7 +426,7 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
                 if h.mask.none() {
                     continue;
                 }
-                let id = bvh.ids[k];
+                let id = bvh.ids()[k];
                 let mut m = h.mask & (!best.mask | h.t.lt(best.t));
                 let tie = h.mask & best.mask & !h.t.ne(best.t);
                 if tie.any() {
@@ -468,13 +453,13 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
                         break;
                     }
                 } else {
-                    cull = L::select(m, crate::query::loosen(best.t, rays.t_max), cull);
+                    cull = L::select(m, octoray_core::query::loosen(best.t, rays.t_max), cull);
                     cull_moved = true;
                 }
             }
             continue;
         }
-        let node = &bvh.nodes[e.child as usize];
+        let node = &bvh.nodes()[e.child as usize];
         // Children entered by some live lane: their entry distances, and slot indices sorted
         // farthest first by key (then pushed, so the nearest is popped first).
         let mut nears = [nan; WIDTH];
@@ -492,7 +477,7 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
             None => u32::MAX,
         };
         for s in 0..WIDTH {
-            if node.child[s] == super::EMPTY {
+            if node.child[s] == EMPTY {
                 break;
             }
             if (passed >> s) & 1 == 0 {
@@ -537,7 +522,7 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
 }
 
 /// Closest hit per lane of a packet with kernel `K`. Lane by lane equal to
-/// [`crate::query::closest`] over the slice the tree was built from (the `prim` lanes are
+/// [`octoray_core::query::closest`] over the slice the tree was built from (the `prim` lanes are
 /// indices into that slice). Lanes that miss hold `t = t_max` and zero barycentrics.
 pub fn closest_packet<L: Lanes, K: Kernel<L>>(
     bvh: Bvh8Ref<'_, K::Prim>,

@@ -1,0 +1,41 @@
+//! Rays against a scene: the walks of a [`Bvh8Ref`], generic over the kernel tier `K` and the
+//! lane width `L`.
+//!
+//! | call | rays | how |
+//! |---|---|---|
+//! | [`closest_ray`], [`occluded_ray`] | one | one `f32x8` box test per node (its eight children, on the entry and exit faces picked once per ray); closest hit visits children near-first, occlusion in any order; leaves tested a SoA block of [`BLOCK`] primitives at a time |
+//! | [`closest_packet`], [`closest_t_packet`], [`occluded_packet`] | `L::LANES` | the packet's active mask goes down the tree together, children visited near-first by the packet's entry distance (occlusion: in any order); a coherent f32 packet (one direction octant) first tests a node's eight boxes against its frustum in one `f32x8` test and lane by lane only the children that pass; when a node is reached by at most a quarter of the lanes (and at most 2), those continue ray by ray (hybrid traversal) |
+//! | [`closest`], [`occluded`] | any slice | packets where a packet's rays share a direction octant (coherent), single rays elsewhere |
+//!
+//! # Contract
+//! The answers equal the brute-force queries of [`octoray_core::query`] over the caller's slice,
+//! bit for bit (hit/miss, `t`, `u`, `v`, primitive index), with the same tie rule: among hits
+//! with equal `t`, the lowest primitive index wins. That holds because every box test is
+//! conservative: a box is skipped only when no kernel can report a hit inside it, including hits
+//! its rounding places slightly outside the exact primitive (the boxes carry a slack of
+//! [`SLACK`](octoray_core::bvh::SLACK), 2⁻¹⁷ of the coordinates' magnitude, ≈ 128 ulp, and the
+//! ray's origin adds its own; the slab test's roundings are covered by a widening of 2⁻²¹ of each
+//! distance). The exception: the boxes' slack covers a kernel's `t` error up to about
+//! `128·ε·reach`, while the kernels' contracts allow `8·ε·max(t, reach)/(|cos θ|·sin α)`. When a
+//! kernel's `t` error exceeds the slack (a ray meeting a triangle at |cos θ|·sin α ≲ 1/16, from
+//! far away) *and* another hit lies within that error of it (or `t_min`/`t_max` does), which one
+//! is nearest is undecidable at the tier's accuracy, and the tree may report the other: a hit
+//! either way, within the tier's `t` error of brute force's. The same holds where the kernels
+//! underflow (`ρ²·t ≲ 1e-30`, see the watertight contract).
+//!
+//! # Untrusted trees
+//! On any tree [`Bvh8Ref::new`] accepted, built or read from untrusted bytes, every call here is
+//! total: no panic (but the documented length checks of [`closest`] and [`occluded`]), each node
+//! visited and each primitive tested at most once per ray, and every reported `prim` below
+//! [`Bvh8Ref::prims`].
+
+#[cfg(doc)]
+use octoray_core::{bvh::Bvh8Ref, prim::BLOCK};
+
+#[doc(hidden)]
+pub mod slab;
+mod walk;
+
+pub use walk::{
+    closest, closest_packet, closest_ray, closest_t_packet, occluded, occluded_packet, occluded_ray,
+};
