@@ -36,10 +36,18 @@ fn bits(h: Option<Hit>) -> Option<(u32, u32, u32, u32)> {
 
 /// Checks every traversal against brute force on `rays`; returns the number of hits.
 fn check<L: Lanes, K: Kernel<L>>(prims: &[K::Prim], rays: &[Ray]) -> usize {
-    let tree = Bvh8::build(prims);
-    // Every built tree passes the validation of untrusted slices, and traverses the same from it.
+    check_tree::<L, K>(&Bvh8::build(prims), prims, rays)
+}
+
+/// [`check`] on a given tree over `prims` (built from them, or refitted to them).
+fn check_tree<L: Lanes, K: Kernel<L>>(
+    tree: &Bvh8<K::Prim>,
+    prims: &[K::Prim],
+    rays: &[Ray],
+) -> usize {
+    // Every tree passes the validation of untrusted slices, and traverses the same from it.
     let bvh = Bvh8Ref::<K::Prim>::new(tree.nodes(), tree.blocks(), tree.ids(), prims.len())
-        .expect("a built tree validates");
+        .expect("a built or refitted tree validates");
     assert_eq!(bvh.prims(), prims.len());
     let mut batch = vec![None; rays.len()];
     closest::<L, K>(bvh, rays, &mut batch);
@@ -571,4 +579,107 @@ fn regression_zero_area_triangle_scene() {
     // Found by the equality proptest against the (since removed) fast tier, which reported a hit
     // (u = v = 0) on a collinear triangle far from the ray; kept for the remaining tiers.
     triangle_scene(10981392969920591453, ORDINARY);
+}
+
+/// A scene moved after its build: every vertex displaced by up to `amount` of the scene's scale
+/// (some triangles collapsed to a point, some sent to NaN), the tree refitted.
+fn refit_scene(seed: u64, amount: f32) {
+    let mut rng = Rng(seed);
+    let (tris, off, s) = triangles(&mut rng, ORDINARY);
+    let moved: Vec<[Vec3; 3]> = tris
+        .iter()
+        .map(|t| match rng.below(40) {
+            0 => [t[0]; 3],
+            1 => [Vec3::NAN, t[1], t[2]],
+            _ => t.map(|v| v + rng.vec3(amount * s)),
+        })
+        .collect();
+    let tg = targets(&moved, &mut rng);
+    let mut rays = rays(&mut rng, &tg, off, s, 96, false);
+    rays.extend(testkit::rays::coherent_rays(&mut rng, &tg, off, s, 4));
+    let (packed, verts) = (pack_triangles(&tris), pack_vertex_triangles(&tris));
+    let (packed2, verts2) = (pack_triangles(&moved), pack_vertex_triangles(&moved));
+    let mut pt = Bvh8::build(&packed);
+    let mut vt = Bvh8::build(&verts);
+    let (p0, v0) = (pt.clone(), vt.clone());
+    pt.refit(&packed2).expect("same slice");
+    vt.refit(&verts2).expect("same slice");
+    check_tree::<f32x8, MollerTrumbore>(&pt, &packed2, &rays);
+    check_tree::<f32x4, MollerTrumboreCulled>(&pt, &packed2, &rays);
+    check_tree::<f64x4, MollerTrumbore>(&pt, &packed2, &rays);
+    check_tree::<f32x8, Watertight>(&vt, &verts2, &rays);
+    check_tree::<f32x16, WatertightCulled>(&vt, &verts2, &rays);
+    check_tree::<f32x8, Exact>(&vt, &verts2, &rays);
+    check_tree::<f64x4, Watertight>(&vt, &verts2, &rays);
+    // Refitted back to the first positions, the tree is the built one, byte for byte.
+    pt.refit(&packed).expect("same slice");
+    vt.refit(&verts).expect("same slice");
+    assert_eq!((pt.nodes(), pt.blocks()), (p0.nodes(), p0.blocks()));
+    assert_eq!((vt.nodes(), vt.blocks()), (v0.nodes(), v0.blocks()));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+    /// After a refit to moved vertices (a little, a lot, past the whole scene), every walk equals
+    /// brute force on the new vertices, for every triangle tier; refitted back, the tree is the
+    /// one built.
+    #[test]
+    fn refitted_tree_equals_brute_force_on_the_moved_scene(seed in any::<u64>(), k in 0usize..3) {
+        refit_scene(seed, [0.01, 0.3, 3.0][k]);
+    }
+}
+
+#[test]
+fn refitted_sphere_tree_equals_brute_force() {
+    let mut rng = Rng(17);
+    let centres: Vec<Vec3> = (0..300).map(|_| rng.vec3(10.0)).collect();
+    let spheres: Vec<PackedSphere> = centres.iter().map(|&c| PackedSphere::new(c, 0.3)).collect();
+    let mut tree = Bvh8::build(&spheres);
+    let moved: Vec<PackedSphere> = centres
+        .iter()
+        .map(|&c| PackedSphere::new(c * 1.5 + rng.vec3(2.0), 0.2 + rng.range(0.0, 0.5)))
+        .collect();
+    tree.refit(&moved).expect("same slice");
+    let rays = rays(&mut rng, &centres, Vec3::ZERO, 15.0, 256, false);
+    assert!(check_tree::<f32x8, StableSphere>(&tree, &moved, &rays) > 0);
+    check_tree::<f32x16, NaiveSphere>(&tree, &moved, &rays);
+}
+
+#[test]
+fn refit_rejects_another_slice_and_left_out_primitives_that_became_finite() {
+    let t = |x: f32| {
+        VertexTriangle::new(
+            Vec3::new(x, 0.0, 0.0),
+            Vec3::new(x + 1.0, 0.0, 0.0),
+            Vec3::Y,
+        )
+    };
+    let mut tris = vec![t(0.0), t(2.0), t(4.0)];
+    tris[1] = VertexTriangle::new(Vec3::NAN, Vec3::X, Vec3::Y);
+    let mut tree = Bvh8::build(&tris);
+    let before = tree.nodes().to_vec();
+    assert_eq!(
+        tree.refit(&tris[..2]),
+        Err(BvhError::RefitLength { built: 3, given: 2 })
+    );
+    let mut healed = tris.clone();
+    healed[1] = t(2.0);
+    assert_eq!(tree.refit(&healed), Err(BvhError::RefitLeftOut { prim: 1 }));
+    assert_eq!(tree.nodes(), &before[..], "unchanged on error");
+    // Still non-finite: accepted; and every primitive going NaN leaves a tree nothing enters.
+    tris[0] = t(10.0);
+    tree.refit(&tris)
+        .expect("the left-out one is still not finite");
+    let ray = Ray::new(Vec3::new(7.8, 0.25, 1.0), -Vec3::Z);
+    assert_eq!(
+        closest_ray::<f32x8, Watertight>(tree.as_ref(), &ray).map(|h| h.prim),
+        Some(0)
+    );
+    let gone = vec![VertexTriangle::new(Vec3::NAN, Vec3::X, Vec3::Y); 3];
+    tree.refit(&gone).expect("same slice");
+    assert_eq!(closest_ray::<f32x8, Watertight>(tree.as_ref(), &ray), None);
+    assert!(
+        tree.nodes()[0].lo[0][0] > tree.nodes()[0].hi[0][0],
+        "an inverted box"
+    );
 }

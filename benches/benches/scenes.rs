@@ -10,6 +10,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use octoray::bvh::{Bvh8, Bvh8Ref, MAX_DEPTH};
+use octoray::glam::Vec3;
 use octoray::kernels::Watertight;
 use octoray::prim::{Ray, VertexTriangle};
 use octoray_benches::scenes::{
@@ -36,7 +37,39 @@ fn scene(c: &mut Criterion, s: &SceneSet) {
     g.bench_function("binned_sah", |b| b.iter(|| Bvh8::build(black_box(&verts))));
     g.finish();
 
-    let bvh = Bvh8::build(&verts);
+    // Refit after every vertex moved (a sway of 1 % of the scene's extent, as an animation step
+    // might), against the rebuild above.
+    let mut bvh = Bvh8::build(&verts);
+    let lo = verts
+        .iter()
+        .flat_map(|t| t.vertices())
+        .fold(f32::INFINITY, |m, v| m.min(v.min_element()));
+    let hi = verts
+        .iter()
+        .flat_map(|t| t.vertices())
+        .fold(f32::NEG_INFINITY, |m, v| m.max(v.max_element()));
+    let sway = 0.01 * (hi - lo);
+    let moved: Vec<VertexTriangle> = verts
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t
+                .vertices()
+                .map(|v| v + sway * Vec3::new(v.y.sin(), v.z.cos(), v.x.sin()));
+            VertexTriangle::new(a, b, c)
+        })
+        .collect();
+    let mut g = c.benchmark_group(format!("bvh_refit_{}", s.name.replace(' ', "_")));
+    g.throughput(Throughput::Elements(verts.len() as u64));
+    let mut flip = false;
+    g.bench_function("refit", |b| {
+        b.iter(|| {
+            flip = !flip;
+            bvh.refit(black_box(if flip { &moved } else { &verts }))
+                .is_ok()
+        })
+    });
+    g.finish();
+    bvh.refit(&verts).expect("same slice");
     let mut g = c.benchmark_group(format!("bvh_validate_{}", s.name.replace(' ', "_")));
     g.throughput(Throughput::Bytes(
         (std::mem::size_of_val(bvh.nodes()) + std::mem::size_of_val(bvh.ids())) as u64,

@@ -289,9 +289,83 @@ impl<P: Primitive> Bvh8<P> {
         &self.ids
     }
 
-    /// Figures of the tree.
+    /// Figures of the tree as built (a refit keeps them).
     pub fn stats(&self) -> BuildStats {
         self.stats
+    }
+
+    /// Refits the tree in place to `prims` after their coordinates moved: the same slice (same
+    /// length and order), the topology kept, every leaf block rewritten from `prims` and every
+    /// box recomputed bottom up. Linear in the tree's size, one scratch box per node.
+    ///
+    /// Each box is the one the builder would compute for the same topology (the exact union of
+    /// its primitives' bounds, widened by [`super::SLACK`]), so every walk's answer equals brute
+    /// force over `prims`, bit for bit, under the same contract as a built tree; a primitive that
+    /// became non-finite is never hit (its box is left out, and a box of only such primitives is
+    /// never entered). Traversal cost grows as the topology fits the new positions worse.
+    ///
+    /// # Errors
+    /// [`BvhError::RefitLength`] when `prims` is not as long as the slice the tree was built
+    /// from; [`BvhError::RefitLeftOut`] when a primitive the build left out (a non-finite
+    /// coordinate) is now finite, since it is in no leaf: rebuild then. On error the tree is
+    /// unchanged.
+    pub fn refit(&mut self, prims: &[P]) -> Result<(), BvhError> {
+        if prims.len() != self.prims {
+            return Err(BvhError::RefitLength {
+                built: self.prims,
+                given: prims.len(),
+            });
+        }
+        if self.stats.skipped > 0 {
+            let mut held = vec![false; prims.len()];
+            for &id in self.ids.iter().filter(|&&id| id != PAD) {
+                held[id as usize] = true;
+            }
+            if let Some(k) = (0..prims.len()).find(|&k| !held[k] && prims[k].bounds().is_some()) {
+                return Err(BvhError::RefitLeftOut { prim: k });
+            }
+        }
+        // Children have larger indices than their parents: one pass from the last node up sees
+        // every child's union before its parent needs it.
+        let mut raw = vec![Aabb::EMPTY; self.nodes.len()];
+        let mut chunk: Vec<P> = Vec::with_capacity(BLOCK);
+        for n in (0..self.nodes.len()).rev() {
+            let mut node = self.nodes[n];
+            let mut all = Aabb::EMPTY;
+            for s in 0..node.len() {
+                let (child, count) = (node.child[s] as usize, node.count[s] as usize);
+                let bx = if count == 0 {
+                    raw[child]
+                } else {
+                    chunk.clear();
+                    chunk.extend(
+                        self.ids[child..child + count]
+                            .iter()
+                            .map(|&i| prims[i as usize]),
+                    );
+                    let at = child / BLOCK * P::WORDS;
+                    P::write_block(&chunk, &mut self.blocks[at..at + P::WORDS]);
+                    chunk
+                        .iter()
+                        .filter_map(Primitive::bounds)
+                        .fold(Aabb::EMPTY, Aabb::union)
+                };
+                // A box of only non-finite primitives is inverted, as an empty slot's is.
+                let (lo, hi) = if bx.is_finite() {
+                    widen(bx.lo, bx.hi)
+                } else {
+                    (Aabb::EMPTY.lo, Aabb::EMPTY.hi)
+                };
+                for a in 0..3 {
+                    node.lo[a][s] = lo[a];
+                    node.hi[a][s] = hi[a];
+                }
+                all = all.union(bx);
+            }
+            raw[n] = all;
+            self.nodes[n] = node;
+        }
+        Ok(())
     }
 }
 

@@ -142,6 +142,19 @@ pub enum BvhError {
     TooDeep,
     /// More primitives than [`MAX_PRIMS`].
     TooManyPrims(usize),
+    /// A refit was given a slice of another length than the tree was built from.
+    RefitLength {
+        /// The length the tree was built from.
+        built: usize,
+        /// The length given.
+        given: usize,
+    },
+    /// A refit was given a finite primitive that the build left out (it was not finite then),
+    /// so no leaf holds it.
+    RefitLeftOut {
+        /// Its index in the slice.
+        prim: usize,
+    },
 }
 
 impl core::fmt::Display for BvhError {
@@ -166,6 +179,16 @@ impl core::fmt::Display for BvhError {
             BvhError::TooManyPrims(n) => {
                 write!(f, "{n} primitives; a tree holds at most {MAX_PRIMS}")
             }
+            BvhError::RefitLength { built, given } => {
+                write!(
+                    f,
+                    "refit with {given} primitives; the tree was built from {built}"
+                )
+            }
+            BvhError::RefitLeftOut { prim } => write!(
+                f,
+                "primitive {prim} was left out of the build (not finite) and is finite now: rebuild"
+            ),
         }
     }
 }
