@@ -11,7 +11,7 @@ use octoray_testkit as testkit;
 
 use octoray::bvh::{Bvh8, Bvh8Node, Bvh8Ref, BvhError, EMPTY, PAD};
 use octoray::glam::Vec3;
-use octoray::hit::Hit;
+use octoray::hit::{Candidate, Hit};
 use octoray::kernels::{
     Exact, ExactCulled, Kernel, MollerTrumbore, MollerTrumboreCulled, NaiveSphere, StableSphere,
     Watertight, WatertightCulled,
@@ -21,7 +21,9 @@ use octoray::prim::{
     PackedSphere, PackedTriangle, Primitive, Ray, RayLanes, VertexTriangle, BLOCK,
 };
 use octoray::scene::{
-    closest, closest_packet, closest_ray, closest_t_packet, occluded, occluded_packet, occluded_ray,
+    closest, closest_packet, closest_packet_with, closest_ray, closest_ray_with, closest_t_packet,
+    closest_with, occluded, occluded_packet, occluded_packet_with, occluded_ray, occluded_ray_with,
+    occluded_with,
 };
 use octoray::{f32x16, f32x4, f32x8, query};
 use proptest::prelude::*;
@@ -682,4 +684,175 @@ fn refit_rejects_another_slice_and_left_out_primitives_that_became_finite() {
         tree.nodes()[0].lo[0][0] > tree.nodes()[0].hi[0][0],
         "an inverted box"
     );
+}
+
+/// An alpha mask as a filter: primitives whose index is even are cut out in a checkerboard of
+/// their barycentrics, every fifth primitive is invisible; a pure function of the candidate.
+fn alpha(c: &Candidate) -> bool {
+    if c.prim % 5 == 4 {
+        return false;
+    }
+    c.prim % 2 == 1 || ((c.u * 6.0) as i32 + (c.v * 6.0) as i32) % 2 == 0
+}
+
+/// Brute force with the filter: every primitive tested alone with the ray's own range (the
+/// scalar twin), the accepted hits, the nearest (ties to the lower index).
+fn filtered_brute<K: Kernel<f32>>(ray: &Ray, prims: &[K::Prim]) -> Option<Hit> {
+    let mut best: Option<Hit> = None;
+    for (k, p) in prims.iter().enumerate() {
+        let Some(h) = octoray::intersect::<f32, K>(ray, p) else {
+            continue;
+        };
+        let c = Candidate {
+            prim: k as u32,
+            t: h.t,
+            u: h.u,
+            v: h.v,
+            ray: 0,
+        };
+        if alpha(&c) && best.is_none_or(|b| h.t < b.t) {
+            best = Some(Hit {
+                prim: k as u32,
+                ..h
+            });
+        }
+    }
+    best
+}
+
+/// Every filtered walk (single, packet, slice; closest and occlusion) equals filtered brute
+/// force, and each candidate the filter saw names the ray it belongs to.
+fn check_filtered<L: Lanes, K: Kernel<L> + Kernel<f32, Prim = <K as Kernel<L>>::Prim>>(
+    prims: &[<K as Kernel<L>>::Prim],
+    rays: &[Ray],
+) -> usize {
+    let tree = Bvh8::build(prims);
+    let bvh = tree.as_ref();
+    let want: Vec<_> = rays
+        .iter()
+        .map(|r| bits(filtered_brute::<K>(r, prims)))
+        .collect();
+    let mut seen_wrong_ray = 0;
+    let mut out = vec![None; rays.len()];
+    closest_with::<L, K, _>(bvh, rays, &mut out, &mut |c: &Candidate| {
+        seen_wrong_ray += usize::from(
+            octoray::intersect::<f32, K>(&rays[c.ray as usize], &prims[c.prim as usize])
+                .is_none_or(|h| h.t != c.t),
+        );
+        alpha(c)
+    });
+    assert_eq!(seen_wrong_ray, 0, "candidates name their ray");
+    let mut occ = vec![false; rays.len()];
+    occluded_with::<L, K, _>(bvh, rays, &mut occ, &mut alpha);
+    for (k, r) in rays.iter().enumerate() {
+        assert_eq!(bits(out[k]), want[k], "slice, ray {r:?}");
+        assert_eq!(
+            bits(closest_ray_with::<L, K, _>(bvh, r, &mut alpha)),
+            want[k],
+            "single"
+        );
+        assert_eq!(
+            occluded_ray_with::<L, K, _>(bvh, r, &mut alpha),
+            want[k].is_some()
+        );
+        assert_eq!(occ[k], want[k].is_some(), "occluded slice, ray {r:?}");
+    }
+    for (c, chunk) in rays.chunks(L::LANES).enumerate() {
+        let p = RayLanes::<L>::load(chunk);
+        let h = closest_packet_with::<L, K, _>(bvh, &p, &mut alpha);
+        let o = occluded_packet_with::<L, K, _>(bvh, &p, &mut alpha).bitmask();
+        for i in 0..chunk.len() {
+            let w = want[c * L::LANES + i];
+            assert_eq!(bits(h.lane(i)), w, "packet, ray {:?}", chunk[i]);
+            assert_eq!((o >> i) & 1 == 1, w.is_some());
+        }
+    }
+    want.iter().filter(|w| w.is_some()).count()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    /// Filtered walks equal filtered brute force, for the f32 triangle tiers at every width.
+    #[test]
+    fn filtered_walks_equal_filtered_brute_force(seed in any::<u64>()) {
+        let mut rng = Rng(seed);
+        let (tris, off, s) = triangles(&mut rng, ORDINARY);
+        let tg = targets(&tris, &mut rng);
+        let mut rays = rays(&mut rng, &tg, off, s, 96, false);
+        rays.extend(testkit::rays::coherent_rays(&mut rng, &tg, off, s, 4));
+        let (packed, verts) = (pack_triangles(&tris), pack_vertex_triangles(&tris));
+        check_filtered::<f32x8, MollerTrumbore>(&packed, &rays);
+        check_filtered::<f32x4, Watertight>(&verts, &rays);
+        check_filtered::<f32x16, Watertight>(&verts, &rays);
+        check_filtered::<f32x8, Exact>(&verts, &rays);
+    }
+}
+
+#[test]
+fn filters_cut_out_hits_that_brute_force_keeps() {
+    // The filter changes answers on this suite (so the test above compares something), and a
+    // filter rejecting everything leaves no hit.
+    let mut rng = Rng(5);
+    let (tris, off, s) = triangles(&mut rng, ORDINARY);
+    let tg = targets(&tris, &mut rng);
+    let rays = testkit::rays::coherent_rays(&mut rng, &tg, off, s, 16);
+    let verts = pack_vertex_triangles(&tris);
+    let tree = Bvh8::build(&verts);
+    let plain: Vec<_> = rays
+        .iter()
+        .map(|r| closest_ray::<f32x8, Watertight>(tree.as_ref(), r))
+        .collect();
+    let cut = check_filtered::<f32x8, Watertight>(&verts, &rays);
+    assert!(
+        cut < plain.iter().filter(|h| h.is_some()).count(),
+        "the alpha mask removes hits"
+    );
+    let mut none = |_: &Candidate| false;
+    assert!(rays
+        .iter()
+        .all(|r| closest_ray_with::<f32x8, Watertight, _>(tree.as_ref(), r, &mut none).is_none()));
+}
+
+#[test]
+fn threaded_refit_equals_single_threaded_refit_and_brute_force() {
+    use octoray::parallel::Rayon;
+    // 60 000 triangles: far more blocks than one side of the refit's split takes.
+    let mut rng = Rng(9);
+    let tris: Vec<[Vec3; 3]> = (0..60_000)
+        .map(|_| {
+            let a = rng.vec3(100.0);
+            [a, a + rng.vec3(1.0), a + rng.vec3(1.0)]
+        })
+        .collect();
+    let moved: Vec<[Vec3; 3]> = tris
+        .iter()
+        .map(|t| {
+            let d = rng.vec3(3.0);
+            t.map(|v| v * 1.1 + d)
+        })
+        .collect();
+    let (verts, verts2) = (pack_vertex_triangles(&tris), pack_vertex_triangles(&moved));
+    let mut one = Bvh8::build(&verts);
+    one.refit(&verts2).expect("same slice");
+    for threads in [2, 4] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool");
+        let mut par = Bvh8::build(&verts);
+        pool.install(|| par.refit_with(&verts2, &Rayon))
+            .expect("same slice");
+        assert_eq!(
+            bytemuck::cast_slice::<Bvh8Node, u8>(one.nodes()),
+            bytemuck::cast_slice::<Bvh8Node, u8>(par.nodes()),
+            "{threads} threads"
+        );
+        assert_eq!(
+            bytemuck::cast_slice::<_, u8>(one.blocks()),
+            bytemuck::cast_slice::<_, u8>(par.blocks())
+        );
+    }
+    let targets: Vec<Vec3> = moved.iter().step_by(97).map(|t| t[0]).collect();
+    let rays = rays(&mut rng, &targets, Vec3::ZERO, 110.0, 48, false);
+    assert!(check_tree::<f32x8, Watertight>(&one, &verts2, &rays) > 0);
 }

@@ -11,8 +11,10 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use octoray::bvh::{Bvh8, Bvh8Ref, MAX_DEPTH};
 use octoray::glam::Vec3;
+use octoray::hit::Candidate;
 use octoray::kernels::Watertight;
 use octoray::prim::{Ray, VertexTriangle};
+use octoray::scene::{closest_ray, closest_ray_with};
 use octoray_benches::scenes::{
     jittered_sphere, packets_closest, singles_any, singles_closest, sponza, SceneSet,
 };
@@ -68,6 +70,14 @@ fn scene(c: &mut Criterion, s: &SceneSet) {
                 .is_ok()
         })
     });
+    g.bench_function("refit_rayon", |b| {
+        b.iter(|| {
+            flip = !flip;
+            let prims = if flip { &moved } else { &verts };
+            bvh.refit_with(black_box(prims), &octoray::parallel::Rayon)
+                .is_ok()
+        })
+    });
     g.finish();
     bvh.refit(&verts).expect("same slice");
     let mut g = c.benchmark_group(format!("bvh_validate_{}", s.name.replace(' ', "_")));
@@ -101,6 +111,54 @@ fn scene(c: &mut Criterion, s: &SceneSet) {
         b.iter(|| singles_closest::<f32x8, Watertight>(r, &bounce))
     });
     g.finish();
+
+    // Alpha-tested leaves: every other primitive cut out in a checkerboard of its barycentrics.
+    // The filter against the restart loop a renderer writes without one (trace, and on a
+    // cut-out hit trace again from just past it).
+    let mut g = c.benchmark_group(format!("alpha_{}", s.name.replace(' ', "_")));
+    g.throughput(Throughput::Elements(primary.len() as u64));
+    g.bench_function("filter_closest_single", |b| {
+        b.iter(|| {
+            primary
+                .iter()
+                .filter(|ray| {
+                    closest_ray_with::<f32x8, Watertight, _>(r, ray, &mut alpha).is_some()
+                })
+                .count()
+        })
+    });
+    g.bench_function("restart_closest_single", |b| {
+        b.iter(|| {
+            primary
+                .iter()
+                .filter(|ray| {
+                    let mut ray = **ray;
+                    loop {
+                        let Some(h) = closest_ray::<f32x8, Watertight>(r, &ray) else {
+                            return false;
+                        };
+                        let c = Candidate {
+                            prim: h.prim,
+                            t: h.t,
+                            u: h.u,
+                            v: h.v,
+                            ray: 0,
+                        };
+                        if alpha(&c) {
+                            return true;
+                        }
+                        ray.t_min = h.t.next_up();
+                    }
+                })
+                .count()
+        })
+    });
+    g.finish();
+}
+
+/// The alpha mask of the alpha benchmark.
+fn alpha(c: &Candidate) -> bool {
+    c.prim % 2 == 1 || ((c.u * 6.0) as i32 + (c.v * 6.0) as i32) % 2 == 0
 }
 
 /// Validation of crafted trees: the exponential shared chain (64 nodes, 16 KiB, rejected) and the

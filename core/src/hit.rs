@@ -19,6 +19,55 @@ pub struct Hit {
     pub prim: u32,
 }
 
+/// A hit a kernel reported, shown to a [`HitFilter`] before it counts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Candidate {
+    /// Index of the primitive in the slice the tree was built from.
+    pub prim: u32,
+    /// Ray parameter, rounded to f32 as [`Hit::t`] is.
+    pub t: f32,
+    /// Barycentric weight of `v1`, as [`Hit::u`].
+    pub u: f32,
+    /// Barycentric weight of `v2`, as [`Hit::v`].
+    pub v: f32,
+    /// Which ray: its index in the caller's slice, its lane in a packet, 0 for a single ray.
+    pub ray: u32,
+}
+
+/// Caller code that accepts or rejects candidate hits (alpha testing, decals, shadow catchers):
+/// a closure `FnMut(&Candidate) -> bool`, or [`AcceptAll`] (the walks without a filter, at no
+/// cost: its checks are compiled out).
+///
+/// The walks ask the filter about a candidate only when it would change the answer (nearer than
+/// the best so far, or, for occlusion, the first hit), in no fixed order, possibly more than
+/// once. A filter that answers as a function of the candidate alone gives the answer of brute
+/// force over the accepted hits, bit for bit, under the usual tie rule.
+pub trait HitFilter {
+    /// True when the filter accepts every hit (the walks then skip it entirely).
+    const ACCEPTS_ALL: bool = false;
+    /// Does the hit count?
+    fn accept(&mut self, hit: &Candidate) -> bool;
+}
+
+/// The filter that accepts every hit: what the walks without `_with` use.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct AcceptAll;
+
+impl HitFilter for AcceptAll {
+    const ACCEPTS_ALL: bool = true;
+    #[inline(always)]
+    fn accept(&mut self, _: &Candidate) -> bool {
+        true
+    }
+}
+
+impl<F: FnMut(&Candidate) -> bool> HitFilter for F {
+    #[inline(always)]
+    fn accept(&mut self, hit: &Candidate) -> bool {
+        self(hit)
+    }
+}
+
 /// Per-lane result of one ray-primitive test: `mask` marks the lanes that hit; the fields are
 /// meaningful only there.
 ///

@@ -296,7 +296,7 @@ impl<P: Primitive> Bvh8<P> {
 
     /// Refits the tree in place to `prims` after their coordinates moved: the same slice (same
     /// length and order), the topology kept, every leaf block rewritten from `prims` and every
-    /// box recomputed bottom up. Linear in the tree's size, one scratch box per node.
+    /// box recomputed bottom up. Linear in the tree's size, one scratch box per node and block.
     ///
     /// Each box is the one the builder would compute for the same topology (the exact union of
     /// its primitives' bounds, widened by [`super::SLACK`]), so every walk's answer equals brute
@@ -309,7 +309,22 @@ impl<P: Primitive> Bvh8<P> {
     /// from; [`BvhError::RefitLeftOut`] when a primitive the build left out (a non-finite
     /// coordinate) is now finite, since it is in no leaf: rebuild then. On error the tree is
     /// unchanged.
-    pub fn refit(&mut self, prims: &[P]) -> Result<(), BvhError> {
+    pub fn refit(&mut self, prims: &[P]) -> Result<(), BvhError>
+    where
+        P: Sync,
+    {
+        self.refit_with(prims, &Sequential)
+    }
+
+    /// [`Bvh8::refit`] with the blocks rewritten on `join`'s threads (the facade's
+    /// `octoray::parallel::Rayon`); the tree is the same bit for bit whatever the join.
+    ///
+    /// # Errors
+    /// As [`Bvh8::refit`].
+    pub fn refit_with<J: Join>(&mut self, prims: &[P], join: &J) -> Result<(), BvhError>
+    where
+        P: Sync,
+    {
         if prims.len() != self.prims {
             return Err(BvhError::RefitLength {
                 built: self.prims,
@@ -325,10 +340,12 @@ impl<P: Primitive> Bvh8<P> {
                 return Err(BvhError::RefitLeftOut { prim: k });
             }
         }
-        // Children have larger indices than their parents: one pass from the last node up sees
-        // every child's union before its parent needs it.
+        // Every block rewritten from its primitives, with their union box: independent work.
+        let mut boxes = vec![Aabb::EMPTY; self.ids.len() / BLOCK];
+        refit_blocks(&mut self.blocks, &self.ids, &mut boxes, prims, join);
+        // Then the nodes. Children have larger indices than their parents: one pass from the
+        // last node up sees every child's union before its parent needs it.
         let mut raw = vec![Aabb::EMPTY; self.nodes.len()];
-        let mut chunk: Vec<P> = Vec::with_capacity(BLOCK);
         for n in (0..self.nodes.len()).rev() {
             let mut node = self.nodes[n];
             let mut all = Aabb::EMPTY;
@@ -337,18 +354,9 @@ impl<P: Primitive> Bvh8<P> {
                 let bx = if count == 0 {
                     raw[child]
                 } else {
-                    chunk.clear();
-                    chunk.extend(
-                        self.ids[child..child + count]
-                            .iter()
-                            .map(|&i| prims[i as usize]),
-                    );
-                    let at = child / BLOCK * P::WORDS;
-                    P::write_block(&chunk, &mut self.blocks[at..at + P::WORDS]);
-                    chunk
+                    boxes[child / BLOCK..(child + count).div_ceil(BLOCK)]
                         .iter()
-                        .filter_map(Primitive::bounds)
-                        .fold(Aabb::EMPTY, Aabb::union)
+                        .fold(Aabb::EMPTY, |a, &b| a.union(b))
                 };
                 // A box of only non-finite primitives is inverted, as an empty slot's is.
                 let (lo, hi) = if bx.is_finite() {
@@ -366,6 +374,44 @@ impl<P: Primitive> Bvh8<P> {
             self.nodes[n] = node;
         }
         Ok(())
+    }
+}
+
+/// Blocks at which a refit splits its block work between the join's two sides.
+const REFIT_SPLIT: usize = 1024;
+
+/// Rewrites each block of `blocks` (its primitives' indices in `ids`, [`PAD`] after them) from
+/// `prims`, and puts the union of their bounds in `boxes`; halves go to `join`.
+fn refit_blocks<P: Primitive + Sync, J: Join>(
+    blocks: &mut [[f32; BLOCK]],
+    ids: &[u32],
+    boxes: &mut [Aabb],
+    prims: &[P],
+    join: &J,
+) {
+    if boxes.len() > REFIT_SPLIT {
+        let h = boxes.len() / 2;
+        let (b0, b1) = blocks.split_at_mut(h * P::WORDS);
+        let (i0, i1) = ids.split_at(h * BLOCK);
+        let (x0, x1) = boxes.split_at_mut(h);
+        join.join(
+            || refit_blocks(b0, i0, x0, prims, join),
+            || refit_blocks(b1, i1, x1, prims, join),
+        );
+        return;
+    }
+    for (k, bx) in boxes.iter_mut().enumerate() {
+        let ids = &ids[k * BLOCK..][..BLOCK];
+        let n = ids.iter().take_while(|&&i| i != PAD).count();
+        let mut chunk = [P::zeroed(); BLOCK];
+        for (c, &i) in chunk.iter_mut().zip(&ids[..n]) {
+            *c = prims[i as usize];
+        }
+        P::write_block(&chunk[..n], &mut blocks[k * P::WORDS..][..P::WORDS]);
+        *bx = chunk[..n]
+            .iter()
+            .filter_map(Primitive::bounds)
+            .fold(Aabb::EMPTY, Aabb::union);
     }
 }
 

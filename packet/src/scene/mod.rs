@@ -7,6 +7,11 @@
 //! | [`closest_packet`], [`closest_t_packet`], [`occluded_packet`] | `L::LANES` | the packet's active mask goes down the tree together, children visited near-first by the packet's entry distance (occlusion: in any order); a coherent f32 packet (one direction octant) first tests a node's eight boxes against its frustum in one `f32x8` test and lane by lane only the children that pass; when a node is reached by at most a quarter of the lanes (and at most 2), those continue ray by ray (hybrid traversal) |
 //! | [`closest`], [`occluded`] | any slice | packets where a packet's rays share a direction octant (coherent), single rays elsewhere |
 //!
+//! Each but `closest_t_packet` has a `_with` twin that takes a [`HitFilter`] (alpha testing,
+//! decals, shadow catchers): a closure sees each candidate hit (primitive, `t`, `u`, `v`, which
+//! ray) and accepts or rejects it; a rejected hit neither counts nor shortens the ray. Without a
+//! filter the walks are the `_with` walks at [`AcceptAll`], whose checks compile away.
+//!
 //! # Contract
 //! The answers equal the brute-force queries of [`octoray_core::query`] over the caller's slice,
 //! bit for bit (hit/miss, `t`, `u`, `v`, primitive index), with the same tie rule: among hits
@@ -23,6 +28,9 @@
 //! either way, within the tier's `t` error of brute force's. The same holds where the kernels
 //! underflow (`ρ²·t ≲ 1e-30`, see the watertight contract).
 //!
+//! With a filter that answers as a function of the candidate alone, the `_with` walks equal
+//! brute force over the hits the filter accepts, under the same contract and tie rule.
+//!
 //! # Untrusted trees
 //! On any tree [`Bvh8Ref::new`] accepted, built or read from untrusted bytes, every call here is
 //! total: no panic (but the documented length checks of [`closest`] and [`occluded`]), each node
@@ -30,12 +38,19 @@
 //! [`Bvh8Ref::prims`].
 
 #[cfg(doc)]
-use octoray_core::{bvh::Bvh8Ref, prim::BLOCK};
+use octoray_core::{
+    bvh::Bvh8Ref,
+    hit::{AcceptAll, HitFilter},
+    prim::BLOCK,
+};
 
+mod epilog;
 #[doc(hidden)]
 pub mod slab;
 mod walk;
 
 pub use walk::{
-    closest, closest_packet, closest_ray, closest_t_packet, occluded, occluded_packet, occluded_ray,
+    closest, closest_packet, closest_packet_with, closest_ray, closest_ray_with, closest_t_packet,
+    closest_with, occluded, occluded_packet, occluded_packet_with, occluded_ray, occluded_ray_with,
+    occluded_with,
 };

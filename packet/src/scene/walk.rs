@@ -1,9 +1,10 @@
 //! The walks: one ray, one packet, a slice of rays.
 
-use super::slab::{extreme_lane, loosen, slab, slab_planes, BoxRay, Frustum};
+use super::epilog::{accepts, better, bound, Best};
+use super::slab::{extreme_lane, slab, slab_planes, BoxRay, Frustum};
 use arrayvec::ArrayVec;
 use octoray_core::bvh::{Bvh8Ref, EMPTY, STACK, WIDTH};
-use octoray_core::hit::{barycentrics, Hit};
+use octoray_core::hit::{barycentrics, AcceptAll, Hit, HitFilter};
 use octoray_core::kernels::Kernel;
 use octoray_core::lanes::{LaneMask, Lanes, Scalar, V3};
 use octoray_core::prim::{BlockLane, BlockRows, Ray, RayLanes, BLOCK};
@@ -16,55 +17,6 @@ struct Entry<N> {
     child: u32,
     count: u32,
     near: N,
-}
-
-/// The best hit of one ray so far (barycentric numerators over `scale`, like the kernels').
-#[derive(Clone, Copy, Debug)]
-struct Best<S> {
-    t: S,
-    u: S,
-    v: S,
-    scale: S,
-    id: u32,
-}
-
-impl<S: Scalar> Best<S> {
-    fn hit(&self) -> Hit {
-        // As `kernel::barycentrics`: one division, then −0 made +0 (the same bits: rounding to
-        // f32 commutes with the sign).
-        Hit {
-            t: self.t.to_f32(),
-            u: (self.u / self.scale).to_f32() + 0.0,
-            v: (self.v / self.scale).to_f32() + 0.0,
-            prim: self.id,
-        }
-    }
-}
-
-/// Does a hit at `t` on primitive `id` replace `best`? Nearer `t`, or equal `t` and lower index.
-#[inline(always)]
-fn better<S: Scalar>(t: S, id: u32, best: &Option<Best<S>>) -> bool {
-    match best {
-        None => true,
-        Some(b) => t < b.t || (t == b.t && id < b.id),
-    }
-}
-
-/// The `t` bound of box tests and kernel calls: the ray's `t_max`, or once there is a hit, its
-/// `t` loosened so that a later hit at the same `t` is still seen (the tie rule decides).
-#[inline(always)]
-fn bound<S: Scalar>(t_max: S, best: &Option<Best<S>>) -> S {
-    match best {
-        Some(b) => {
-            let l = loosen(b.t);
-            if l < t_max {
-                l
-            } else {
-                t_max
-            }
-        }
-        None => t_max,
-    }
 }
 
 /// `t` rounded to f32 and moved up by an ulp: an f32 box bound no smaller than `t`.
@@ -86,13 +38,16 @@ fn f32_bound<S: Scalar>(t: S) -> f32 {
 /// ([`slab_planes`]). For the closest hit, the nearest child hit is visited next without a
 /// stack round trip and the others are pushed farthest first; occlusion needs no order and
 /// pushes them as they come (the order affects speed only, never the answer).
-fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
+#[allow(clippy::too_many_arguments)] // the walk's state, passed down once per ray
+fn trace_single<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
     bvh: Bvh8Ref<'_, K::Prim>,
     rl: &RayLanes<L>,
     pre: &K::Pre,
     br: &BoxRay<f32x8>,
     start: (u32, u32),
     best: &mut Option<Best<L::Scalar>>,
+    filter: &mut F,
+    ray_id: u32,
 ) -> bool {
     // Node tests use `slab_planes`, which leaves `valid` to the caller: every caller passes a
     // valid ray.
@@ -142,7 +97,7 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
                     let rows = BlockRows::new::<K::Prim>(block, sub);
                     let h = K::intersect_words(&ray, pre, &rows);
                     let mut bits = h.mask.bitmask();
-                    if ANY && bits != 0 {
+                    if ANY && F::ACCEPTS_ALL && bits != 0 {
                         return true;
                     }
                     while bits != 0 {
@@ -150,12 +105,16 @@ fn trace_single<L: Lanes, K: Kernel<L>, const ANY: bool>(
                         bits &= bits - 1;
                         let t = h.t.lane(i);
                         let id = bvh.ids()[at + sub + i];
-                        if better(t, id, best) {
+                        let uvs = (h.u.lane(i), h.v.lane(i), h.scale.lane(i));
+                        if (ANY || better(t, id, best)) && accepts(filter, t, uvs, id, ray_id) {
+                            if ANY {
+                                return true;
+                            }
                             *best = Some(Best {
                                 t,
-                                u: h.u.lane(i),
-                                v: h.v.lane(i),
-                                scale: h.scale.lane(i),
+                                u: uvs.0,
+                                v: uvs.1,
+                                scale: uvs.2,
                                 id,
                             });
                         }
@@ -274,9 +233,11 @@ fn exchange(keys: &mut [f32; 4], slots: &mut [u8; 4], a: usize, b: usize) {
 }
 
 /// Prepares one ray for [`trace_single`] and runs it from the root.
-fn single<L: Lanes, K: Kernel<L>, const ANY: bool>(
+fn single<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
     bvh: Bvh8Ref<'_, K::Prim>,
     ray: &Ray,
+    filter: &mut F,
+    ray_id: u32,
 ) -> (bool, Option<Best<L::Scalar>>) {
     let mut best = None;
     if bvh.nodes().is_empty() {
@@ -287,7 +248,16 @@ fn single<L: Lanes, K: Kernel<L>, const ANY: bool>(
     if br.valid.none() {
         return (false, best);
     }
-    let any = trace_single::<L, K, ANY>(bvh, &rl, &K::prepare(&rl), &br, (0, 0), &mut best);
+    let any = trace_single::<L, K, F, ANY>(
+        bvh,
+        &rl,
+        &K::prepare(&rl),
+        &br,
+        (0, 0),
+        &mut best,
+        filter,
+        ray_id,
+    );
     (any, best)
 }
 
@@ -295,12 +265,33 @@ fn single<L: Lanes, K: Kernel<L>, const ANY: bool>(
 /// (`L = f32x8` or `f32x16` for the f32 tiers, `f64x4`/`f64x8` for the f64 tier). `prim` is the
 /// index in the slice the tree was built from.
 pub fn closest_ray<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, ray: &Ray) -> Option<Hit> {
-    single::<L, K, false>(bvh, ray).1.map(|b| b.hit())
+    closest_ray_with::<L, K, _>(bvh, ray, &mut AcceptAll)
+}
+
+/// [`closest_ray`] counting only the hits `filter` accepts (the candidate's `ray` is 0).
+pub fn closest_ray_with<L: Lanes, K: Kernel<L>, F: HitFilter>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    ray: &Ray,
+    filter: &mut F,
+) -> Option<Hit> {
+    single::<L, K, F, false>(bvh, ray, filter, 0)
+        .1
+        .map(|b| b.hit())
 }
 
 /// Does one ray hit anything in `[t_min, t_max]` (occlusion)? Stops at the first hit.
 pub fn occluded_ray<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, ray: &Ray) -> bool {
-    single::<L, K, true>(bvh, ray).0
+    occluded_ray_with::<L, K, _>(bvh, ray, &mut AcceptAll)
+}
+
+/// [`occluded_ray`] counting only the hits `filter` accepts (any-hit with a filter: alpha-tested
+/// shadows).
+pub fn occluded_ray_with<L: Lanes, K: Kernel<L>, F: HitFilter>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    ray: &Ray,
+    filter: &mut F,
+) -> bool {
+    single::<L, K, F, true>(bvh, ray, filter, 0).0
 }
 
 /// Per-lane state of a packet query.
@@ -334,9 +325,11 @@ fn largest<L: Lanes>(x: L, m: L::Mask) -> f32 {
 }
 
 /// The packet walk: `ANY` stops lanes at their first hit.
-fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
+fn packet<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
     bvh: Bvh8Ref<'_, K::Prim>,
     rays: &RayLanes<L>,
+    filter: &mut F,
+    ray_base: u32,
 ) -> PacketBest<L> {
     let mut best = PacketBest::<L> {
         mask: L::first_lanes(0),
@@ -390,13 +383,15 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
                     scale: best.scale.lane(i),
                     id: L::index_lane(best.id, i),
                 });
-                let hit = trace_single::<L, K, ANY>(
+                let hit = trace_single::<L, K, F, ANY>(
                     bvh,
                     &rl,
                     &K::prepare(&rl),
                     &lane_br,
                     (e.child, e.count),
                     &mut one,
+                    filter,
+                    ray_base + i as u32,
                 );
                 if ANY {
                     if hit {
@@ -440,6 +435,18 @@ fn packet<L: Lanes, K: Kernel<L>, const ANY: bool>(
                         }
                     }
                     m = m | (tie & L::mask_from_bits(lower));
+                }
+                if !F::ACCEPTS_ALL {
+                    let (mut mb, mut keep) = (m.bitmask(), 0);
+                    while mb != 0 {
+                        let i = mb.trailing_zeros() as usize;
+                        mb &= mb - 1;
+                        let uvs = (h.u.lane(i), h.v.lane(i), h.scale.lane(i));
+                        if accepts(filter, h.t.lane(i), uvs, id, ray_base + i as u32) {
+                            keep |= 1 << i;
+                        }
+                    }
+                    m = m & L::mask_from_bits(keep);
                 }
                 best.mask = best.mask | m;
                 best.t = L::select(m, h.t, best.t);
@@ -528,7 +535,26 @@ pub fn closest_packet<L: Lanes, K: Kernel<L>>(
     bvh: Bvh8Ref<'_, K::Prim>,
     rays: &RayLanes<L>,
 ) -> ClosestHit<L> {
-    let b = packet::<L, K, false>(bvh, rays);
+    closest_packet_with::<L, K, _>(bvh, rays, &mut AcceptAll)
+}
+
+/// [`closest_packet`] counting only the hits `filter` accepts (the candidate's `ray` is its
+/// lane).
+pub fn closest_packet_with<L: Lanes, K: Kernel<L>, F: HitFilter>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    rays: &RayLanes<L>,
+    filter: &mut F,
+) -> ClosestHit<L> {
+    packet_hits::<L, K, F>(bvh, rays, filter, 0)
+}
+
+fn packet_hits<L: Lanes, K: Kernel<L>, F: HitFilter>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    rays: &RayLanes<L>,
+    filter: &mut F,
+    ray_base: u32,
+) -> ClosestHit<L> {
+    let b = packet::<L, K, F, false>(bvh, rays, filter, ray_base);
     let (u, v) = barycentrics(b.u, b.v, b.scale);
     ClosestHit {
         mask: b.mask,
@@ -545,7 +571,7 @@ pub fn closest_t_packet<L: Lanes, K: Kernel<L>>(
     bvh: Bvh8Ref<'_, K::Prim>,
     rays: &RayLanes<L>,
 ) -> (L::Mask, L) {
-    let b = packet::<L, K, false>(bvh, rays);
+    let b = packet::<L, K, AcceptAll, false>(bvh, rays, &mut AcceptAll, 0);
     (b.mask, b.t)
 }
 
@@ -554,7 +580,17 @@ pub fn occluded_packet<L: Lanes, K: Kernel<L>>(
     bvh: Bvh8Ref<'_, K::Prim>,
     rays: &RayLanes<L>,
 ) -> L::Mask {
-    packet::<L, K, true>(bvh, rays).mask
+    occluded_packet_with::<L, K, _>(bvh, rays, &mut AcceptAll)
+}
+
+/// [`occluded_packet`] counting only the hits `filter` accepts (the candidate's `ray` is its
+/// lane).
+pub fn occluded_packet_with<L: Lanes, K: Kernel<L>, F: HitFilter>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    rays: &RayLanes<L>,
+    filter: &mut F,
+) -> L::Mask {
+    packet::<L, K, F, true>(bvh, rays, filter, 0).mask
 }
 
 /// Do all rays of a chunk point into one octant (a coherent packet)?
@@ -579,22 +615,38 @@ pub fn closest<L: Lanes, K: Kernel<L>>(
     rays: &[Ray],
     out: &mut [Option<Hit>],
 ) {
-    assert_eq!(
-        out.len(),
-        rays.len(),
-        "octoray closest: out has {} entries for {} rays",
-        out.len(),
-        rays.len()
-    );
-    for (chunk, out) in rays.chunks(L::LANES).zip(out.chunks_mut(L::LANES)) {
+    closest_with::<L, K, _>(bvh, rays, out, &mut AcceptAll);
+}
+
+/// [`closest`] counting only the hits `filter` accepts (the candidate's `ray` is the ray's index
+/// in `rays`).
+///
+/// # Panics
+/// When `out.len() != rays.len()`, or `rays.len() > u32::MAX`.
+#[track_caller]
+pub fn closest_with<L: Lanes, K: Kernel<L>, F: HitFilter>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    rays: &[Ray],
+    out: &mut [Option<Hit>],
+    filter: &mut F,
+) {
+    check_len("closest", rays.len(), out.len());
+    for (c, (chunk, out)) in rays
+        .chunks(L::LANES)
+        .zip(out.chunks_mut(L::LANES))
+        .enumerate()
+    {
+        let base = (c * L::LANES) as u32;
         if chunk.len() > 1 && coherent(chunk) {
-            let h = closest_packet::<L, K>(bvh, &RayLanes::load(chunk));
+            let h = packet_hits::<L, K, F>(bvh, &RayLanes::load(chunk), filter, base);
             for (i, o) in out.iter_mut().enumerate() {
                 *o = h.lane(i);
             }
         } else {
-            for (r, o) in chunk.iter().zip(out) {
-                *o = closest_ray::<L, K>(bvh, r);
+            for (i, (r, o)) in chunk.iter().zip(out).enumerate() {
+                *o = single::<L, K, F, false>(bvh, r, filter, base + i as u32)
+                    .1
+                    .map(|b| b.hit());
             }
         }
     }
@@ -607,23 +659,52 @@ pub fn closest<L: Lanes, K: Kernel<L>>(
 /// When `out.len() != rays.len()`.
 #[track_caller]
 pub fn occluded<L: Lanes, K: Kernel<L>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray], out: &mut [bool]) {
-    assert_eq!(
-        out.len(),
-        rays.len(),
-        "octoray occluded: out has {} entries for {} rays",
-        out.len(),
-        rays.len()
-    );
-    for (chunk, out) in rays.chunks(L::LANES).zip(out.chunks_mut(L::LANES)) {
+    occluded_with::<L, K, _>(bvh, rays, out, &mut AcceptAll);
+}
+
+/// [`occluded`] counting only the hits `filter` accepts (the candidate's `ray` is the ray's
+/// index in `rays`).
+///
+/// # Panics
+/// When `out.len() != rays.len()`, or `rays.len() > u32::MAX`.
+#[track_caller]
+pub fn occluded_with<L: Lanes, K: Kernel<L>, F: HitFilter>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    rays: &[Ray],
+    out: &mut [bool],
+    filter: &mut F,
+) {
+    check_len("occluded", rays.len(), out.len());
+    for (c, (chunk, out)) in rays
+        .chunks(L::LANES)
+        .zip(out.chunks_mut(L::LANES))
+        .enumerate()
+    {
+        let base = (c * L::LANES) as u32;
         if chunk.len() > 1 && coherent(chunk) {
-            let m = occluded_packet::<L, K>(bvh, &RayLanes::load(chunk)).bitmask();
+            let m = packet::<L, K, F, true>(bvh, &RayLanes::load(chunk), filter, base)
+                .mask
+                .bitmask();
             for (i, o) in out.iter_mut().enumerate() {
                 *o = (m >> i) & 1 == 1;
             }
         } else {
-            for (r, o) in chunk.iter().zip(out) {
-                *o = occluded_ray::<L, K>(bvh, r);
+            for (i, (r, o)) in chunk.iter().zip(out).enumerate() {
+                *o = single::<L, K, F, true>(bvh, r, filter, base + i as u32).0;
             }
         }
     }
+}
+
+/// Panics unless `out` has one entry per ray and the rays can be numbered by `u32`.
+#[track_caller]
+fn check_len(what: &str, rays: usize, out: usize) {
+    assert_eq!(
+        out, rays,
+        "octoray {what}: out has {out} entries for {rays} rays"
+    );
+    assert!(
+        u32::try_from(rays).is_ok(),
+        "octoray {what}: {rays} rays; rays are numbered by u32"
+    );
 }
