@@ -295,7 +295,8 @@ pub fn grazing_cases(seed: u64, n: usize, angle: f32) -> Vec<TriCase> {
             ];
             let target = point(v, rng.range(-0.25, 1.25), rng.range(-0.25, 1.25));
             let az = rng.range(0.0, std::f32::consts::TAU);
-            let dir = Vec3::new(az.cos() * angle.cos(), az.sin() * angle.cos(), -angle.sin());
+            let (ca, sa) = (libm::cosf(angle), libm::sinf(angle));
+            let dir = Vec3::new(libm::cosf(az) * ca, libm::sinf(az) * ca, -sa);
             let o = target - dir * rng.range(0.5, 3.0);
             // A random rotation, so the plane is not axis-aligned and nothing is exact.
             let (axis, ang) = (rng.vec3(1.0).normalize(), rng.range(0.0, 3.0));
@@ -524,17 +525,15 @@ pub fn tiny_sphere_cases(seed: u64, n: usize) -> Vec<SphereCase> {
     let mut rng = Rng(seed);
     (0..n)
         .map(|_| {
-            let r = 10f32
-                .powf(rng.range(-18.9, -3.0))
-                .max(PackedSphere::MIN_RADIUS);
+            let r = libm::powf(10.0, rng.range(-18.9, -3.0)).max(PackedSphere::MIN_RADIUS);
             let (away, dist) = (
-                10f32.powf(rng.range(0.0, 3.0)),
-                10f32.powf(rng.range(0.0, 4.0)),
+                libm::powf(10.0, rng.range(0.0, 3.0)),
+                libm::powf(10.0, rng.range(0.0, 4.0)),
             );
             let center = rng.vec3(r * away);
             let o = center + rng.vec3(1.0).normalize() * (r * dist);
             let target = center + rng.vec3(1.5 * r);
-            let len = 10f32.powf(rng.range(-18.9, 0.0));
+            let len = libm::powf(10.0, rng.range(-18.9, 0.0));
             SphereCase {
                 ray: Ray::new(o, (target - o).normalize() * len),
                 center,

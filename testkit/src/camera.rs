@@ -26,7 +26,7 @@ impl Pinhole {
     /// direction is not normalised.
     pub fn ray(&self, x: u32, y: u32, w: u32, h: u32) -> Ray {
         let (fwd, right, up) = self.frame();
-        let half = (self.fov * 0.5).tan();
+        let half = libm::tanf(self.fov * 0.5);
         let aspect = w as f32 / h as f32;
         let sx = ((x as f32 + 0.5) / w as f32 * 2.0 - 1.0) * half * aspect;
         let sy = (1.0 - (y as f32 + 0.5) / h as f32 * 2.0) * half;
@@ -41,7 +41,7 @@ impl Pinhole {
         if z <= 0.0 {
             return None;
         }
-        let half = (self.fov * 0.5).tan();
+        let half = libm::tanf(self.fov * 0.5);
         let aspect = w as f32 / h as f32;
         let sx = q.dot(right) / z / (half * aspect);
         let sy = q.dot(up) / z / half;

@@ -233,7 +233,7 @@ impl Mesh {
         for end in [0.0, len] {
             for k in 0..n {
                 let a = core::f32::consts::TAU * k as f32 / n as f32;
-                verts.push(offset + Vec3::new(end, r * a.cos(), r * a.sin()));
+                verts.push(offset + Vec3::new(end, r * libm::cosf(a), r * libm::sinf(a)));
             }
         }
         let ring = |end: u32, k: u32| 2 + end * n + k % n;

@@ -91,8 +91,8 @@ pub fn triangle_case(
     count: &mut SpawnCount,
 ) -> Result<(), String> {
     let e = rng.range(lo, hi);
-    let s = 10f32.powf(e);
-    let away = 10f32.powf(rng.range(0.0, 1.0));
+    let s = libm::powf(10.0, e);
+    let away = libm::powf(10.0, rng.range(0.0, 1.0));
     let c = rng.vec3(s * away);
     let v = [c + rng.vec3(s), c + rng.vec3(s), c + rng.vec3(s)];
     let tri = VertexTriangle::new(v[0], v[1], v[2]);
@@ -119,9 +119,9 @@ pub fn triangle_case(
 /// from 2–100 radii away; on a hit, spawns outward from its surface (inward rays meet the far
 /// side), tested by the f32 and f64 tiers.
 pub fn sphere_case(rng: &mut Rng, count: &mut SpawnCount) -> Result<(), String> {
-    let r = 10f32.powf(rng.range(-18.0, 15.0));
+    let r = libm::powf(10.0, rng.range(-18.0, 15.0));
     let k = rng.range(0.0, 8.0);
-    let c = rng.vec3(1.0).normalize() * (r * 10f32.powf(k));
+    let c = rng.vec3(1.0).normalize() * (r * libm::powf(10.0, k));
     let s = PackedSphere::new(c, r);
     let o = c + rng.vec3(1.0).normalize() * (r * rng.range(2.0, 100.0));
     // Far from the origin f32 may round the origin into the sphere (its grid is coarser than r

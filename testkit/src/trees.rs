@@ -47,7 +47,7 @@ pub fn triangles(rng: &mut Rng, n: usize) -> Vec<VertexTriangle> {
     (0..n)
         .map(|_| {
             let c = rng.vec3(1.0);
-            let s = 10f32.powf(rng.range(-2.0, -0.5));
+            let s = libm::powf(10.0, rng.range(-2.0, -0.5));
             VertexTriangle::new(c + rng.vec3(s), c + rng.vec3(s), c + rng.vec3(s))
         })
         .collect()

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# The same bits on other ISAs: test slices on aarch64 (NEON, under QEMU user mode) and on
+# wasm32-wasip1 (simd128, under Node's WASI), through the runners in .cargo/config.toml. Each
+# slice includes the determinism digest (the value stored for x86-64), the golden seed tests,
+# packet == scalar twin, the exact tier against the oracle and BVH == brute force. Installs what
+# it needs; skips a target with a message only when its tools cannot be installed here.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+have() { command -v "$1" >/dev/null 2>&1; }
+apt_install() {
+  if have apt-get; then
+    (apt-get install -y "$@" >/dev/null 2>&1 || { apt-get update >/dev/null 2>&1 && apt-get install -y "$@" >/dev/null 2>&1; }) || true
+  fi
+}
+
+# BVH == brute force without the heaviest proptests (emulation is slow) and, on WebAssembly,
+# without the thread-pool tests (wasm32-wasip1 has no threads).
+BVH_SLICE=(bvh_equals_brute_force_on_triangle_scenes bvh_equals_brute_force_on_sphere_scenes
+  filtered_walks ties_go_to crack_suite build_is_deterministic empty_and_unhittable
+  refit_rejects)
+
+echo "== aarch64 (NEON) under QEMU user mode"
+have qemu-aarch64 && have aarch64-linux-gnu-gcc || apt_install qemu-user gcc-aarch64-linux-gnu libc6-dev-arm64-cross
+if have qemu-aarch64 && have aarch64-linux-gnu-gcc && rustup target add aarch64-unknown-linux-gnu >/dev/null 2>&1; then
+  T=(--target aarch64-unknown-linux-gnu)
+  export CARGO_TARGET_DIR=target/cross
+  cargo test "${T[@]}" --test determinism --test golden --test exact --test queries --test box_test --test packet_bits
+  cargo test "${T[@]}" --test bvh -- "${BVH_SLICE[@]}"
+  echo "ok: aarch64 slice passed (digest equal to x86-64's)"
+else
+  echo "skipped: aarch64 (qemu-user or the aarch64 linker could not be installed here)"
+fi
+
+echo "== wasm32-wasip1 (simd128) under Node's WASI"
+have node || apt_install nodejs
+if have node && node -e "require('node:wasi')" >/dev/null 2>&1 && rustup target add wasm32-wasip1 >/dev/null 2>&1; then
+  T=(--target wasm32-wasip1)
+  export CARGO_TARGET_DIR=target/cross
+  cargo test "${T[@]}" --test determinism --test golden --test exact --test queries --test box_test --test packet_bits
+  cargo test "${T[@]}" --test bvh -- "${BVH_SLICE[@]}"
+  echo "ok: wasm32-wasip1 slice passed (digest equal to x86-64's)"
+else
+  echo "skipped: wasm32-wasip1 (no Node with node:wasi could be installed here)"
+fi
