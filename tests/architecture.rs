@@ -14,6 +14,7 @@ const LAYERS: &[&[&str]] = &[
     &["kernels"],
     &["query"],
     &["bvh"],
+    &["scene"],
     &["shading", "ingest", "recommend", "textbook"],
 ];
 

@@ -708,6 +708,8 @@ fn filtered_brute<K: Kernel<f32>>(ray: &Ray, prims: &[K::Prim]) -> Option<Hit> {
             t: h.t,
             u: h.u,
             v: h.v,
+            geom: 0,
+            inst: 0,
             ray: 0,
         };
         if alpha(&c) && best.is_none_or(|b| h.t < b.t) {

@@ -142,6 +142,8 @@ fn scene(c: &mut Criterion, s: &SceneSet) {
                             t: h.t,
                             u: h.u,
                             v: h.v,
+                            geom: 0,
+                            inst: 0,
                             ray: 0,
                         };
                         if alpha(&c) {

@@ -5,8 +5,9 @@
 use crate::lanes::Lanes;
 use crate::prim::RayLanes;
 
-/// A hit: the ray parameter, the barycentrics of `v1` and `v2` (zero for spheres) and the index
-/// of the primitive in the slice that was queried (zero for single-primitive tests).
+/// A hit: the ray parameter, the barycentrics of `v1` and `v2` (zero for spheres), the index of
+/// the primitive in its geometry's slice (zero for single-primitive tests), and which geometry
+/// and instance of a scene it belongs to (both zero outside a scene: one slice, placed once).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit {
     /// Ray parameter of the hit, finite and inside `[t_min, t_max]`.
@@ -17,13 +18,21 @@ pub struct Hit {
     pub v: f32,
     /// Index of the primitive hit.
     pub prim: u32,
+    /// The scene's geometry the primitive belongs to (0 outside a scene).
+    pub geom: u32,
+    /// The scene's instance the ray met it through (0 outside a scene).
+    pub inst: u32,
 }
 
 /// A hit a kernel reported, shown to a [`HitFilter`] before it counts.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Candidate {
-    /// Index of the primitive in the slice the tree was built from.
+    /// Index of the primitive in the slice its tree was built from.
     pub prim: u32,
+    /// Its geometry in a scene, as [`Hit::geom`].
+    pub geom: u32,
+    /// The instance, as [`Hit::inst`].
+    pub inst: u32,
     /// Ray parameter, rounded to f32 as [`Hit::t`] is.
     pub t: f32,
     /// Barycentric weight of `v1`, as [`Hit::u`].

@@ -61,6 +61,7 @@ pub mod lanes;
 pub mod prim;
 pub mod query;
 pub mod recommend;
+pub mod scene;
 #[cfg(any(feature = "triangle", feature = "sphere"))]
 pub mod shading;
 pub mod textbook;
@@ -91,6 +92,8 @@ pub fn intersect<L: Lanes, K: Kernel<L>>(ray: &Ray, prim: &K::Prim) -> Option<Hi
         u: u.lane(0).to_f32(),
         v: v.lane(0).to_f32(),
         prim: 0,
+        geom: 0,
+        inst: 0,
     })
 }
 

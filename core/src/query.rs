@@ -60,6 +60,10 @@ pub struct ClosestHit<L: Lanes> {
     pub v: L,
     /// Index of the closest primitive in the queried slice.
     pub prim: L::Index,
+    /// Its geometry in a scene ([`Hit::geom`]; 0 outside a scene).
+    pub geom: L::Index,
+    /// The instance ([`Hit::inst`]; 0 outside a scene).
+    pub inst: L::Index,
 }
 
 impl<L: Lanes> ClosestHit<L> {
@@ -70,6 +74,8 @@ impl<L: Lanes> ClosestHit<L> {
             u: L::zero(),
             v: L::zero(),
             prim: L::splat_index(0),
+            geom: L::splat_index(0),
+            inst: L::splat_index(0),
         }
     }
 
@@ -81,6 +87,8 @@ impl<L: Lanes> ClosestHit<L> {
             u: self.u.lane(i).to_f32(),
             v: self.v.lane(i).to_f32(),
             prim: L::index_lane(self.prim, i),
+            geom: L::index_lane(self.geom, i),
+            inst: L::index_lane(self.inst, i),
         })
     }
 }
@@ -129,6 +137,8 @@ pub fn closest<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> 
         u,
         v,
         prim: index,
+        geom: miss.geom,
+        inst: miss.inst,
     }
 }
 

@@ -20,6 +20,8 @@ fn textbook_hit(h: TextbookHit) -> Hit {
         u: 0.0,
         v: 0.0,
         prim: 0,
+        geom: 0,
+        inst: 0,
     }
 }
 

@@ -375,6 +375,8 @@ fn accuracy(row: &Row) -> (Stats, f64) {
                 u: 0.0,
                 v: 0.0,
                 prim: 0,
+                geom: 0,
+                inst: 0,
             })
         },
         row.packed(),

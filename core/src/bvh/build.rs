@@ -331,50 +331,75 @@ impl<P: Primitive> Bvh8<P> {
                 given: prims.len(),
             });
         }
-        if self.stats.skipped > 0 {
-            let mut held = vec![false; prims.len()];
-            for &id in self.ids.iter().filter(|&&id| id != PAD) {
-                held[id as usize] = true;
-            }
-            if let Some(k) = (0..prims.len()).find(|&k| !held[k] && prims[k].bounds().is_some()) {
-                return Err(BvhError::RefitLeftOut { prim: k });
-            }
-        }
-        // Every block rewritten from its primitives, with their union box: independent work.
-        let mut boxes = vec![Aabb::EMPTY; self.ids.len() / BLOCK];
-        refit_blocks(&mut self.blocks, &self.ids, &mut boxes, prims, join);
-        // Then the nodes. Children have larger indices than their parents: one pass from the
-        // last node up sees every child's union before its parent needs it.
-        let mut raw = vec![Aabb::EMPTY; self.nodes.len()];
-        for n in (0..self.nodes.len()).rev() {
-            let mut node = self.nodes[n];
-            let mut all = Aabb::EMPTY;
-            for s in 0..node.len() {
-                let (child, count) = (node.child[s] as usize, node.count[s] as usize);
-                let bx = if count == 0 {
-                    raw[child]
-                } else {
-                    boxes[child / BLOCK..(child + count).div_ceil(BLOCK)]
-                        .iter()
-                        .fold(Aabb::EMPTY, |a, &b| a.union(b))
-                };
-                // A box of only non-finite primitives is inverted, as an empty slot's is.
-                let (lo, hi) = if bx.is_finite() {
-                    widen(bx.lo, bx.hi)
-                } else {
-                    (Aabb::EMPTY.lo, Aabb::EMPTY.hi)
-                };
-                for a in 0..3 {
-                    node.lo[a][s] = lo[a];
-                    node.hi[a][s] = hi[a];
-                }
-                all = all.union(bx);
-            }
-            raw[n] = all;
-            self.nodes[n] = node;
-        }
-        Ok(())
+        refit_parts(
+            &mut self.nodes,
+            &mut self.blocks,
+            &self.ids,
+            prims,
+            self.stats.skipped > 0,
+            join,
+        )
     }
+
+    /// The owned slices: nodes, blocks, ids (for a scene's storage).
+    pub(crate) fn into_parts(self) -> (Vec<Bvh8Node>, Vec<[f32; BLOCK]>, Vec<u32>) {
+        (self.nodes, self.blocks, self.ids)
+    }
+}
+
+/// The refit of a tree held as slices (a [`Bvh8`]'s, or one geometry's within a scene's):
+/// `check_left_out` when the build may have left primitives out.
+pub(crate) fn refit_parts<P: Primitive + Sync, J: Join>(
+    nodes: &mut [Bvh8Node],
+    blocks: &mut [[f32; BLOCK]],
+    ids: &[u32],
+    prims: &[P],
+    check_left_out: bool,
+    join: &J,
+) -> Result<(), BvhError> {
+    if check_left_out {
+        let mut held = vec![false; prims.len()];
+        for &id in ids.iter().filter(|&&id| id != PAD) {
+            held[id as usize] = true;
+        }
+        if let Some(k) = (0..prims.len()).find(|&k| !held[k] && prims[k].bounds().is_some()) {
+            return Err(BvhError::RefitLeftOut { prim: k });
+        }
+    }
+    // Every block rewritten from its primitives, with their union box: independent work.
+    let mut boxes = vec![Aabb::EMPTY; ids.len() / BLOCK];
+    refit_blocks(blocks, ids, &mut boxes, prims, join);
+    // Then the nodes. Children have larger indices than their parents: one pass from the
+    // last node up sees every child's union before its parent needs it.
+    let mut raw = vec![Aabb::EMPTY; nodes.len()];
+    for n in (0..nodes.len()).rev() {
+        let mut node = nodes[n];
+        let mut all = Aabb::EMPTY;
+        for s in 0..node.len() {
+            let (child, count) = (node.child[s] as usize, node.count[s] as usize);
+            let bx = if count == 0 {
+                raw[child]
+            } else {
+                boxes[child / BLOCK..(child + count).div_ceil(BLOCK)]
+                    .iter()
+                    .fold(Aabb::EMPTY, |a, &b| a.union(b))
+            };
+            // A box of only non-finite primitives is inverted, as an empty slot's is.
+            let (lo, hi) = if bx.is_finite() {
+                widen(bx.lo, bx.hi)
+            } else {
+                (Aabb::EMPTY.lo, Aabb::EMPTY.hi)
+            };
+            for a in 0..3 {
+                node.lo[a][s] = lo[a];
+                node.hi[a][s] = hi[a];
+            }
+            all = all.union(bx);
+        }
+        raw[n] = all;
+        nodes[n] = node;
+    }
+    Ok(())
 }
 
 /// Blocks at which a refit splits its block work between the join's two sides.

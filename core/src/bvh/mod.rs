@@ -316,6 +316,22 @@ impl<'a, P: Primitive> Bvh8Ref<'a, P> {
         })
     }
 
+    /// A part of a scene that [`crate::scene::SceneRef::new`] validated.
+    pub(crate) fn trusted(
+        nodes: &'a [Bvh8Node],
+        blocks: &'a [[f32; BLOCK]],
+        ids: &'a [u32],
+        prims: u32,
+    ) -> Self {
+        Self {
+            nodes,
+            blocks,
+            ids,
+            prims: prims as usize,
+            _prim: core::marker::PhantomData,
+        }
+    }
+
     /// The length of the caller's primitive slice: every reported `prim` is below it.
     pub fn prims(&self) -> usize {
         self.prims
@@ -345,5 +361,7 @@ impl<'a, P: Primitive> Bvh8Ref<'a, P> {
     }
 }
 
+#[cfg(feature = "alloc")]
+pub(crate) use build::refit_parts;
 #[cfg(feature = "alloc")]
 pub use build::{BuildStats, Bvh8, Join, Sequential};

@@ -3,9 +3,10 @@
 
 use super::slab::loosen;
 use octoray_core::hit::{Candidate, Hit, HitFilter};
-use octoray_core::lanes::Scalar;
+use octoray_core::lanes::{LaneMask, Lanes, Scalar};
 
-/// The best hit of one ray so far (barycentric numerators over `scale`, like the kernels').
+/// A hit of one ray (the best so far, or a candidate): barycentric numerators over `scale`,
+/// like the kernels', and where it lies (primitive, geometry, instance).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Best<S> {
     pub t: S,
@@ -13,9 +14,13 @@ pub(super) struct Best<S> {
     pub v: S,
     pub scale: S,
     pub id: u32,
+    pub geom: u32,
+    pub inst: u32,
 }
 
 impl<S: Scalar> Best<S> {
+    /// The hit as reported.
+    #[inline(always)]
     pub fn hit(&self) -> Hit {
         // As `kernel::barycentrics`: one division, then −0 made +0 (the same bits: rounding to
         // f32 commutes with the sign).
@@ -24,16 +29,19 @@ impl<S: Scalar> Best<S> {
             u: (self.u / self.scale).to_f32() + 0.0,
             v: (self.v / self.scale).to_f32() + 0.0,
             prim: self.id,
+            geom: self.geom,
+            inst: self.inst,
         }
     }
 }
 
-/// Does a hit at `t` on primitive `id` replace `best`? Nearer `t`, or equal `t` and lower index.
+/// Does a hit at `t` on primitive `id` of instance `inst` replace `best`? Nearer `t`, or equal
+/// `t` and a lower (instance, primitive).
 #[inline(always)]
-pub(super) fn better<S: Scalar>(t: S, id: u32, best: &Option<Best<S>>) -> bool {
+pub(super) fn better<S: Scalar>(t: S, inst: u32, id: u32, best: &Option<Best<S>>) -> bool {
     match best {
         None => true,
-        Some(b) => t < b.t || (t == b.t && id < b.id),
+        Some(b) => t < b.t || (t == b.t && (inst, id) < (b.inst, b.id)),
     }
 }
 
@@ -54,22 +62,83 @@ pub(super) fn bound<S: Scalar>(t_max: S, best: &Option<Best<S>>) -> S {
     }
 }
 
-/// Does `filter` accept the kernel's hit at `t` on primitive `id` (barycentric numerators `u`,
-/// `v` over `scale`) for ray `ray`? The candidate carries the values [`Best::hit`] would report.
+/// Does `filter` accept `hit` for ray `ray`? It sees the values [`Best::hit`] would report.
 #[inline(always)]
-pub(super) fn accepts<S: Scalar, F: HitFilter>(
-    filter: &mut F,
-    t: S,
-    (u, v, scale): (S, S, S),
-    id: u32,
-    ray: u32,
-) -> bool {
-    F::ACCEPTS_ALL
-        || filter.accept(&Candidate {
-            prim: id,
-            t: t.to_f32(),
-            u: (u / scale).to_f32() + 0.0,
-            v: (v / scale).to_f32() + 0.0,
+pub(super) fn accepts<S: Scalar, F: HitFilter>(filter: &mut F, hit: &Best<S>, ray: u32) -> bool {
+    F::ACCEPTS_ALL || {
+        let h = hit.hit();
+        filter.accept(&Candidate {
+            prim: h.prim,
+            t: h.t,
+            u: h.u,
+            v: h.v,
+            geom: h.geom,
+            inst: h.inst,
             ray,
         })
+    }
+}
+
+/// Per-lane state of a packet walk: the best hits, and the `t` bound of its box tests.
+pub(super) struct PacketBest<L: Lanes> {
+    pub mask: L::Mask,
+    pub t: L,
+    pub u: L,
+    pub v: L,
+    pub scale: L,
+    pub id: L::Index,
+    pub geom: L::Index,
+    pub inst: L::Index,
+    /// Per lane: `t_max`, or once there is a hit, its `t` loosened (as [`bound`]).
+    pub cull: L,
+    /// Set when `cull` moved (the frustum recomputes its bound then).
+    pub moved: bool,
+}
+
+impl<L: Lanes> PacketBest<L> {
+    /// No hit yet, for rays whose `t_max` is `t_max`.
+    #[inline(always)]
+    pub fn new(t_max: L) -> Self {
+        Self {
+            mask: L::first_lanes(0),
+            t: t_max,
+            u: L::zero(),
+            v: L::zero(),
+            scale: L::splat(1.0),
+            id: L::splat_index(0),
+            geom: L::splat_index(0),
+            inst: L::splat_index(0),
+            cull: t_max,
+            moved: true,
+        }
+    }
+
+    /// Lane `i`'s best hit.
+    #[inline(always)]
+    pub fn lane(&self, i: usize) -> Option<Best<L::Scalar>> {
+        ((self.mask.bitmask() >> i) & 1 == 1).then(|| Best {
+            t: self.t.lane(i),
+            u: self.u.lane(i),
+            v: self.v.lane(i),
+            scale: self.scale.lane(i),
+            id: L::index_lane(self.id, i),
+            geom: L::index_lane(self.geom, i),
+            inst: L::index_lane(self.inst, i),
+        })
+    }
+
+    /// Makes `b` the best hit of the lanes in `m` (rays whose `t_max` is `t_max`).
+    #[inline(always)]
+    pub fn set(&mut self, m: L::Mask, b: &Best<L::Scalar>, t_max: L) {
+        self.mask = self.mask | m;
+        self.t = L::select(m, L::splat_scalar(b.t), self.t);
+        self.u = L::select(m, L::splat_scalar(b.u), self.u);
+        self.v = L::select(m, L::splat_scalar(b.v), self.v);
+        self.scale = L::select(m, L::splat_scalar(b.scale), self.scale);
+        self.id = L::select_index(m, L::splat_index(b.id), self.id);
+        self.geom = L::select_index(m, L::splat_index(b.geom), self.geom);
+        self.inst = L::select_index(m, L::splat_index(b.inst), self.inst);
+        self.cull = L::select(m, octoray_core::query::loosen(self.t, t_max), self.cull);
+        self.moved = true;
+    }
 }

@@ -26,7 +26,9 @@
 //! far away) *and* another hit lies within that error of it (or `t_min`/`t_max` does), which one
 //! is nearest is undecidable at the tier's accuracy, and the tree may report the other: a hit
 //! either way, within the tier's `t` error of brute force's. The same holds where the kernels
-//! underflow (`ρ²·t ≲ 1e-30`, see the watertight contract).
+//! underflow (`ρ²·t ≲ 1e-30`, see the watertight contract). The naive sphere tier is not sound
+//! far from a sphere (its contract): a false hit it reports there lies outside every box, and
+//! the tree does not report it.
 //!
 //! With a filter that answers as a function of the candidate alone, the `_with` walks equal
 //! brute force over the hits the filter accepts, under the same contract and tie rule.
@@ -45,9 +47,20 @@ use octoray_core::{
 };
 
 mod epilog;
+mod instances;
 #[doc(hidden)]
 pub mod slab;
 mod walk;
+
+pub use instances::Trace;
+#[cfg(feature = "alloc")]
+#[doc(inline)]
+pub use octoray_core::scene::Scene;
+#[doc(inline)]
+pub use octoray_core::scene::{
+    GeomRef, Geometry, Instance, InstanceBox, SceneError, SceneParts, SceneRef, Transform,
+    TreeParts, MAX_CONDITION, SPHERES, TRIANGLES,
+};
 
 pub use walk::{
     closest, closest_packet, closest_packet_with, closest_ray, closest_ray_with, closest_t_packet,

@@ -53,16 +53,25 @@ pub struct BoxRay<L: Lanes> {
     /// Lanes with a finite origin and direction and a non-zero direction: the only ones any
     /// kernel can report a hit for.
     pub valid: L::Mask,
+    /// The relative origin slack the boxes were grown by ([`SLACK`], or a scene's top level's).
+    pub slack: f32,
 }
 
 impl<L: Lanes> BoxRay<L> {
-    /// Prepares every lane of `ray`.
+    /// Prepares every lane of `ray`, with the origin slack [`SLACK`].
     #[inline(always)]
     pub fn new(ray: &RayLanes<L>) -> Self {
+        Self::with_slack(ray, SLACK)
+    }
+
+    /// Prepares every lane of `ray`, the origin moved by `slack` (relative, ≥ [`SLACK`]) of its
+    /// largest coordinate magnitude.
+    #[inline(always)]
+    pub fn with_slack(ray: &RayLanes<L>, slack: f32) -> Self {
         let (o, d) = (ray.origin, ray.dir);
         let zero = L::zero();
         let m = max3(o.x.abs(), o.y.abs(), o.z.abs());
-        let delta = m * L::splat(SLACK);
+        let delta = m * L::splat(slack);
         let one = L::splat(1.0);
         let nan = L::splat(f32::NAN);
         let inv1 = |x: L| {
@@ -93,6 +102,7 @@ impl<L: Lanes> BoxRay<L> {
             neg,
             t_min: ray.t_min,
             valid: ray.active & finite & nonzero,
+            slack,
         }
     }
 }

@@ -1,15 +1,210 @@
-//! The walks: one ray, one packet, a slice of rays.
+//! The walks of one tree: one ray, one packet, a slice of rays. What a walk does at a leaf is a
+//! [`Leaf`]: test primitives ([`Prims`], here) or enter instances (the scene's top level).
 
-use super::epilog::{accepts, better, bound, Best};
+use super::epilog::{accepts, better, bound, Best, PacketBest};
 use super::slab::{extreme_lane, slab, slab_planes, BoxRay, Frustum};
 use arrayvec::ArrayVec;
-use octoray_core::bvh::{Bvh8Ref, EMPTY, STACK, WIDTH};
+use octoray_core::bvh::{Bvh8Node, Bvh8Ref, EMPTY, STACK, WIDTH};
 use octoray_core::hit::{barycentrics, AcceptAll, Hit, HitFilter};
 use octoray_core::kernels::Kernel;
 use octoray_core::lanes::{LaneMask, Lanes, Scalar, V3};
 use octoray_core::prim::{BlockLane, BlockRows, Ray, RayLanes, BLOCK};
 use octoray_core::query::ClosestHit;
 use wide::f32x8;
+
+/// What a walk does with the slots `first..first + count` of a leaf.
+pub(super) trait Leaf<L: Lanes> {
+    /// What the leaf tests need of a ray or packet, computed once per walk.
+    type Pre;
+    /// Prepares `rays` (one ray broadcast, or a packet).
+    fn prepare(&self, rays: &RayLanes<L>) -> Self::Pre;
+    /// One ray (`rl`, broadcast to every lane) against the slots: `best` carries the hit so far
+    /// in and the best one out. With `ANY`, returns `true` at the first accepted hit.
+    #[allow(clippy::too_many_arguments)] // the walk's state, passed down once per leaf
+    fn single<F: HitFilter, const ANY: bool>(
+        &self,
+        pre: &Self::Pre,
+        first: usize,
+        count: usize,
+        rl: &RayLanes<L>,
+        best: &mut Option<Best<L::Scalar>>,
+        filter: &mut F,
+        ray_id: u32,
+    ) -> bool;
+    /// The lanes `live` of a packet against the slots: updates `best` (with `ANY`, a lane's
+    /// first accepted hit finishes it).
+    #[allow(clippy::too_many_arguments)] // as `single`
+    fn packet<F: HitFilter, const ANY: bool>(
+        &self,
+        pre: &Self::Pre,
+        first: usize,
+        count: usize,
+        rays: &RayLanes<L>,
+        live: L::Mask,
+        best: &mut PacketBest<L>,
+        filter: &mut F,
+        ray_base: u32,
+    );
+}
+
+/// A geometry's leaves: primitives tested with kernel `K`, hits reported as geometry `geom`
+/// of instance `inst`.
+pub(super) struct Prims<'a, L: Lanes, K: Kernel<L>> {
+    pub bvh: Bvh8Ref<'a, K::Prim>,
+    pub geom: u32,
+    pub inst: u32,
+}
+
+impl<L: Lanes, K: Kernel<L>> Leaf<L> for Prims<'_, L, K> {
+    type Pre = K::Pre;
+
+    #[inline(always)]
+    fn prepare(&self, rays: &RayLanes<L>) -> K::Pre {
+        K::prepare(rays)
+    }
+
+    #[inline(always)]
+    fn single<F: HitFilter, const ANY: bool>(
+        &self,
+        pre: &K::Pre,
+        first: usize,
+        count: usize,
+        rl: &RayLanes<L>,
+        best: &mut Option<Best<L::Scalar>>,
+        filter: &mut F,
+        ray_id: u32,
+    ) -> bool {
+        let bvh = self.bvh;
+        let t_max = rl.t_max.lane(0);
+        let mut ray = *rl;
+        // One block at a time; at fewer than BLOCK lanes, a block in several calls.
+        for at in (first..first + count).step_by(BLOCK) {
+            let block = bvh.block_of(at);
+            let in_block = (first + count - at).min(BLOCK);
+            for sub in (0..in_block).step_by(L::LANES) {
+                ray.active = L::first_lanes(in_block - sub);
+                ray.t_max = if K::EXACT_T_MAX {
+                    rl.t_max
+                } else {
+                    L::splat_scalar(bound(t_max, best))
+                };
+                let rows = BlockRows::new::<K::Prim>(block, sub);
+                let h = K::intersect_words(&ray, pre, &rows);
+                let mut bits = h.mask.bitmask();
+                if ANY && F::ACCEPTS_ALL && bits != 0 {
+                    return true;
+                }
+                while bits != 0 {
+                    let i = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    let hit = Best {
+                        t: h.t.lane(i),
+                        u: h.u.lane(i),
+                        v: h.v.lane(i),
+                        scale: h.scale.lane(i),
+                        id: bvh.ids()[at + sub + i],
+                        geom: self.geom,
+                        inst: self.inst,
+                    };
+                    if (ANY || better(hit.t, hit.inst, hit.id, best))
+                        && accepts(filter, &hit, ray_id)
+                    {
+                        if ANY {
+                            return true;
+                        }
+                        *best = Some(hit);
+                    }
+                }
+            }
+        }
+        false
+    }
+
+    #[inline(always)]
+    fn packet<F: HitFilter, const ANY: bool>(
+        &self,
+        pre: &K::Pre,
+        first: usize,
+        count: usize,
+        rays: &RayLanes<L>,
+        live: L::Mask,
+        best: &mut PacketBest<L>,
+        filter: &mut F,
+        ray_base: u32,
+    ) {
+        let bvh = self.bvh;
+        let mut ray = *rays;
+        ray.active = live;
+        for k in first..first + count {
+            ray.t_max = if K::EXACT_T_MAX {
+                rays.t_max
+            } else {
+                best.cull
+            };
+            let prim = BlockLane::new::<K::Prim>(bvh.block_of(k), k % BLOCK);
+            let h = K::intersect_words(&ray, pre, &prim);
+            if h.mask.none() {
+                continue;
+            }
+            let id = bvh.ids()[k];
+            let mut m = h.mask & (!best.mask | h.t.lt(best.t));
+            let tie = h.mask & best.mask & !h.t.ne(best.t);
+            if tie.any() {
+                let mut lower = 0;
+                let mut tb = tie.bitmask();
+                while tb != 0 {
+                    let i = tb.trailing_zeros() as usize;
+                    tb &= tb - 1;
+                    if (self.inst, id) < (L::index_lane(best.inst, i), L::index_lane(best.id, i)) {
+                        lower |= 1 << i;
+                    }
+                }
+                m = m | (tie & L::mask_from_bits(lower));
+            }
+            if !F::ACCEPTS_ALL {
+                let (mut mb, mut keep) = (m.bitmask(), 0);
+                while mb != 0 {
+                    let i = mb.trailing_zeros() as usize;
+                    mb &= mb - 1;
+                    let hit = Best {
+                        t: h.t.lane(i),
+                        u: h.u.lane(i),
+                        v: h.v.lane(i),
+                        scale: h.scale.lane(i),
+                        id,
+                        geom: self.geom,
+                        inst: self.inst,
+                    };
+                    if accepts(filter, &hit, ray_base + i as u32) {
+                        keep |= 1 << i;
+                    }
+                }
+                m = m & L::mask_from_bits(keep);
+            }
+            best.mask = best.mask | m;
+            best.t = L::select(m, h.t, best.t);
+            best.u = L::select(m, h.u, best.u);
+            best.v = L::select(m, h.v, best.v);
+            best.scale = L::select(m, h.scale, best.scale);
+            best.id = L::select_index(m, L::splat_index(id), best.id);
+            best.geom = L::select_index(m, L::splat_index(self.geom), best.geom);
+            best.inst = L::select_index(m, L::splat_index(self.inst), best.inst);
+            if ANY {
+                ray.active = ray.active & !best.mask;
+                if ray.active.none() {
+                    break;
+                }
+            } else {
+                best.cull = L::select(
+                    m,
+                    octoray_core::query::loosen(best.t, rays.t_max),
+                    best.cull,
+                );
+                best.moved = true;
+            }
+        }
+    }
+}
 
 /// A stack entry: a child slot's reference (`count == 0`: inner node) and where the ray enters.
 #[derive(Clone, Copy)]
@@ -30,19 +225,20 @@ fn f32_bound<S: Scalar>(t: S) -> f32 {
     }
 }
 
-/// One valid ray (`rl`, broadcast to every lane; `br.valid` set) from stack entry `start` down.
-/// `best` carries the hit so far in and the final one out. With `ANY`, returns at the first hit
-/// (`true`).
+/// One valid ray (`rl`, broadcast to every lane; `br.valid` set) down the tree of `nodes` from
+/// stack entry `start`, its leaves handled by `leaf`. `best` carries the hit so far in and the
+/// final one out. With `ANY`, returns at the first hit (`true`).
 ///
 /// Each node's eight boxes are tested at once on the entry and exit faces picked once per ray
 /// ([`slab_planes`]). For the closest hit, the nearest child hit is visited next without a
 /// stack round trip and the others are pushed farthest first; occlusion needs no order and
 /// pushes them as they come (the order affects speed only, never the answer).
 #[allow(clippy::too_many_arguments)] // the walk's state, passed down once per ray
-fn trace_single<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
-    bvh: Bvh8Ref<'_, K::Prim>,
+pub(super) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
+    nodes: &[Bvh8Node],
+    leaf: &T,
+    pre: &T::Pre,
     rl: &RayLanes<L>,
-    pre: &K::Pre,
     br: &BoxRay<f32x8>,
     start: (u32, u32),
     best: &mut Option<Best<L::Scalar>>,
@@ -70,7 +266,6 @@ fn trace_single<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
         count: start.1,
         near: f32::NEG_INFINITY,
     });
-    let mut ray = *rl;
     let mut cull = f32_bound(bound(t_max, best));
     loop {
         let e = match cur.take() {
@@ -82,49 +277,22 @@ fn trace_single<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
             },
         };
         if e.count > 0 {
-            let (first, count) = (e.child as usize, e.count as usize);
-            // One block at a time; at fewer than BLOCK lanes, a block in several calls.
-            for at in (first..first + count).step_by(BLOCK) {
-                let block = bvh.block_of(at);
-                let in_block = (first + count - at).min(BLOCK);
-                for sub in (0..in_block).step_by(L::LANES) {
-                    ray.active = L::first_lanes(in_block - sub);
-                    ray.t_max = if K::EXACT_T_MAX {
-                        rl.t_max
-                    } else {
-                        L::splat_scalar(bound(t_max, best))
-                    };
-                    let rows = BlockRows::new::<K::Prim>(block, sub);
-                    let h = K::intersect_words(&ray, pre, &rows);
-                    let mut bits = h.mask.bitmask();
-                    if ANY && F::ACCEPTS_ALL && bits != 0 {
-                        return true;
-                    }
-                    while bits != 0 {
-                        let i = bits.trailing_zeros() as usize;
-                        bits &= bits - 1;
-                        let t = h.t.lane(i);
-                        let id = bvh.ids()[at + sub + i];
-                        let uvs = (h.u.lane(i), h.v.lane(i), h.scale.lane(i));
-                        if (ANY || better(t, id, best)) && accepts(filter, t, uvs, id, ray_id) {
-                            if ANY {
-                                return true;
-                            }
-                            *best = Some(Best {
-                                t,
-                                u: uvs.0,
-                                v: uvs.1,
-                                scale: uvs.2,
-                                id,
-                            });
-                        }
-                    }
-                }
+            let found = leaf.single::<F, ANY>(
+                pre,
+                e.child as usize,
+                e.count as usize,
+                rl,
+                best,
+                filter,
+                ray_id,
+            );
+            if ANY && found {
+                return true;
             }
             cull = f32_bound(bound(t_max, best));
             continue;
         }
-        let node = &bvh.nodes()[e.child as usize];
+        let node = &nodes[e.child as usize];
         let rows: &[[f32; WIDTH]; 8] = bytemuck::cast_ref(node);
         let row = |i: usize| f32x8::from(rows[i]);
         let (mask, near) = slab_planes(
@@ -232,7 +400,41 @@ fn exchange(keys: &mut [f32; 4], slots: &mut [u8; 4], a: usize, b: usize) {
     slots[b] = if swap { sa } else { sb };
 }
 
-/// Prepares one ray for [`trace_single`] and runs it from the root.
+/// One ray through geometry `bvh` (hits reported as geometry `geom` of instance `inst`) from
+/// the root, `best` carried in and out: prepares the ray for [`trace_single`].
+#[allow(clippy::too_many_arguments)] // the walk's state
+#[inline(always)]
+pub(super) fn run_single<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    (geom, inst): (u32, u32),
+    ray: &Ray,
+    best: &mut Option<Best<L::Scalar>>,
+    filter: &mut F,
+    ray_id: u32,
+) -> bool {
+    if bvh.nodes().is_empty() {
+        return false;
+    }
+    let rl = RayLanes::<L>::broadcast(ray);
+    let br = BoxRay::new(&RayLanes::<f32x8>::broadcast(ray));
+    if br.valid.none() {
+        return false;
+    }
+    let leaf = Prims::<L, K> { bvh, geom, inst };
+    trace_single::<L, _, F, ANY>(
+        bvh.nodes(),
+        &leaf,
+        &leaf.prepare(&rl),
+        &rl,
+        &br,
+        (0, 0),
+        best,
+        filter,
+        ray_id,
+    )
+}
+
+/// One ray through one tree from the root (geometry 0, instance 0).
 fn single<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
     bvh: Bvh8Ref<'_, K::Prim>,
     ray: &Ray,
@@ -240,24 +442,7 @@ fn single<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
     ray_id: u32,
 ) -> (bool, Option<Best<L::Scalar>>) {
     let mut best = None;
-    if bvh.nodes().is_empty() {
-        return (false, best);
-    }
-    let rl = RayLanes::<L>::broadcast(ray);
-    let br = BoxRay::new(&RayLanes::<f32x8>::broadcast(ray));
-    if br.valid.none() {
-        return (false, best);
-    }
-    let any = trace_single::<L, K, F, ANY>(
-        bvh,
-        &rl,
-        &K::prepare(&rl),
-        &br,
-        (0, 0),
-        &mut best,
-        filter,
-        ray_id,
-    );
+    let any = run_single::<L, K, F, ANY>(bvh, (0, 0), ray, &mut best, filter, ray_id);
     (any, best)
 }
 
@@ -294,16 +479,6 @@ pub fn occluded_ray_with<L: Lanes, K: Kernel<L>, F: HitFilter>(
     single::<L, K, F, true>(bvh, ray, filter, 0).0
 }
 
-/// Per-lane state of a packet query.
-struct PacketBest<L: Lanes> {
-    mask: L::Mask,
-    t: L,
-    u: L,
-    v: L,
-    scale: L,
-    id: L::Index,
-}
-
 /// Lanes at which a packet continues ray by ray.
 #[inline(always)]
 fn hybrid_threshold<L: Lanes>() -> u32 {
@@ -324,29 +499,26 @@ fn largest<L: Lanes>(x: L, m: L::Mask) -> f32 {
     extreme_lane(x, m, true)
 }
 
-/// The packet walk: `ANY` stops lanes at their first hit.
-fn packet<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
-    bvh: Bvh8Ref<'_, K::Prim>,
+/// A packet (`br` prepared from `rays`) down the tree of `nodes` from the root, its leaves
+/// handled by `leaf`; `best` carries the hits so far in and the best ones out. `ANY` stops
+/// lanes at their first hit.
+#[allow(clippy::too_many_arguments)] // the walk's state
+pub(super) fn packet_walk<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
+    nodes: &[Bvh8Node],
+    leaf: &T,
+    pre: &T::Pre,
     rays: &RayLanes<L>,
+    br: &BoxRay<L>,
+    best: &mut PacketBest<L>,
     filter: &mut F,
     ray_base: u32,
-) -> PacketBest<L> {
-    let mut best = PacketBest::<L> {
-        mask: L::first_lanes(0),
-        t: rays.t_max,
-        u: L::zero(),
-        v: L::zero(),
-        scale: L::splat(1.0),
-        id: L::splat_index(0),
-    };
-    let br = BoxRay::new(rays);
-    if bvh.nodes().is_empty() || br.valid.none() {
-        return best;
+) {
+    if nodes.is_empty() || br.valid.none() {
+        return;
     }
-    let pre = K::prepare(rays);
     // Coherent f32 packets test a node's eight boxes against the packet's frustum first, and
     // the packet lane by lane only against the children that pass.
-    let frustum = Frustum::new(&br);
+    let frustum = Frustum::new(br);
     let nan = L::splat(f32::NAN);
     let mut stack = ArrayVec::<Entry<L>, STACK>::new();
     stack.push(Entry {
@@ -354,12 +526,11 @@ fn packet<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
         count: 0,
         near: L::select(br.valid, L::splat(f32::NEG_INFINITY), nan),
     });
-    let mut ray = *rays;
-    let mut cull = rays.t_max;
     // The frustum's t_max: the largest valid lane's `cull`, recomputed when `cull` has moved.
-    let (mut cull_max, mut cull_moved) = (f32::NAN, true);
+    let mut cull_max = f32::NAN;
+    best.moved = true;
     while let Some(e) = stack.pop() {
-        let mut live = e.near.le(cull);
+        let mut live = e.near.le(best.cull);
         if ANY {
             live = live & !best.mask;
         }
@@ -374,19 +545,14 @@ fn packet<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
                 let i = b.trailing_zeros() as usize;
                 b &= b - 1;
                 let rl = rays.broadcast_lane(i);
-                let lane_br = BoxRay::new(&RayLanes::<f32x8>::broadcast(&rays.ray(i)));
-                let had = (best.mask.bitmask() >> i) & 1 == 1;
-                let mut one = had.then(|| Best {
-                    t: best.t.lane(i),
-                    u: best.u.lane(i),
-                    v: best.v.lane(i),
-                    scale: best.scale.lane(i),
-                    id: L::index_lane(best.id, i),
-                });
-                let hit = trace_single::<L, K, F, ANY>(
-                    bvh,
+                let lane_br =
+                    BoxRay::with_slack(&RayLanes::<f32x8>::broadcast(&rays.ray(i)), br.slack);
+                let mut one = best.lane(i);
+                let hit = trace_single::<L, T, F, ANY>(
+                    nodes,
+                    leaf,
+                    &leaf.prepare(&rl),
                     &rl,
-                    &K::prepare(&rl),
                     &lane_br,
                     (e.child, e.count),
                     &mut one,
@@ -398,75 +564,25 @@ fn packet<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
                         best.mask = best.mask | L::mask_from_bits(1 << i);
                     }
                 } else if let Some(o) = one {
-                    let m = L::mask_from_bits(1 << i);
-                    best.mask = best.mask | m;
-                    best.t = L::select(m, L::splat_scalar(o.t), best.t);
-                    best.u = L::select(m, L::splat_scalar(o.u), best.u);
-                    best.v = L::select(m, L::splat_scalar(o.v), best.v);
-                    best.scale = L::select(m, L::splat_scalar(o.scale), best.scale);
-                    best.id = L::select_index(m, L::splat_index(o.id), best.id);
-                    cull = L::select(m, octoray_core::query::loosen(best.t, rays.t_max), cull);
-                    cull_moved = true;
+                    best.set(L::mask_from_bits(1 << i), &o, rays.t_max);
                 }
             }
             continue;
         }
         if e.count > 0 {
-            let first = e.child as usize;
-            ray.active = live;
-            for k in first..first + e.count as usize {
-                ray.t_max = if K::EXACT_T_MAX { rays.t_max } else { cull };
-                let prim = BlockLane::new::<K::Prim>(bvh.block_of(k), k % BLOCK);
-                let h = K::intersect_words(&ray, &pre, &prim);
-                if h.mask.none() {
-                    continue;
-                }
-                let id = bvh.ids()[k];
-                let mut m = h.mask & (!best.mask | h.t.lt(best.t));
-                let tie = h.mask & best.mask & !h.t.ne(best.t);
-                if tie.any() {
-                    let mut lower = 0;
-                    let mut tb = tie.bitmask();
-                    while tb != 0 {
-                        let i = tb.trailing_zeros() as usize;
-                        tb &= tb - 1;
-                        if id < L::index_lane(best.id, i) {
-                            lower |= 1 << i;
-                        }
-                    }
-                    m = m | (tie & L::mask_from_bits(lower));
-                }
-                if !F::ACCEPTS_ALL {
-                    let (mut mb, mut keep) = (m.bitmask(), 0);
-                    while mb != 0 {
-                        let i = mb.trailing_zeros() as usize;
-                        mb &= mb - 1;
-                        let uvs = (h.u.lane(i), h.v.lane(i), h.scale.lane(i));
-                        if accepts(filter, h.t.lane(i), uvs, id, ray_base + i as u32) {
-                            keep |= 1 << i;
-                        }
-                    }
-                    m = m & L::mask_from_bits(keep);
-                }
-                best.mask = best.mask | m;
-                best.t = L::select(m, h.t, best.t);
-                best.u = L::select(m, h.u, best.u);
-                best.v = L::select(m, h.v, best.v);
-                best.scale = L::select(m, h.scale, best.scale);
-                best.id = L::select_index(m, L::splat_index(id), best.id);
-                if ANY {
-                    ray.active = ray.active & !best.mask;
-                    if ray.active.none() {
-                        break;
-                    }
-                } else {
-                    cull = L::select(m, octoray_core::query::loosen(best.t, rays.t_max), cull);
-                    cull_moved = true;
-                }
-            }
+            leaf.packet::<F, ANY>(
+                pre,
+                e.child as usize,
+                e.count as usize,
+                rays,
+                live,
+                best,
+                filter,
+                ray_base,
+            );
             continue;
         }
-        let node = &bvh.nodes()[e.child as usize];
+        let node = &nodes[e.child as usize];
         // Children entered by some live lane: their entry distances, and slot indices sorted
         // farthest first by key (then pushed, so the nearest is popped first).
         let mut nears = [nan; WIDTH];
@@ -475,9 +591,9 @@ fn packet<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
         let mut n = 0;
         let passed = match &frustum {
             Some(f) => {
-                if cull_moved {
-                    cull_max = largest(cull, br.valid);
-                    cull_moved = false;
+                if best.moved {
+                    cull_max = largest(best.cull, br.valid);
+                    best.moved = false;
                 }
                 f.children(bytemuck::cast_ref(node), cull_max)
             }
@@ -492,7 +608,7 @@ fn packet<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
             }
             let lo = V3::splat([node.lo[0][s], node.lo[1][s], node.lo[2][s]]);
             let hi = V3::splat([node.hi[0][s], node.hi[1][s], node.hi[2][s]]);
-            let (m, near) = slab(lo, hi, &br, cull);
+            let (m, near) = slab(lo, hi, br, best.cull);
             let m = m & live;
             let mb = m.bitmask();
             if mb == 0 {
@@ -525,7 +641,63 @@ fn packet<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
             });
         }
     }
+}
+
+/// A packet through geometry `bvh` (hits reported as geometry `geom` of instance `inst`) from
+/// the root, `best` carried in and out.
+#[inline(always)]
+pub(super) fn run_packet<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    (geom, inst): (u32, u32),
+    rays: &RayLanes<L>,
+    best: &mut PacketBest<L>,
+    filter: &mut F,
+    ray_base: u32,
+) {
+    if bvh.nodes().is_empty() {
+        return;
+    }
+    let br = BoxRay::new(rays);
+    if br.valid.none() {
+        return;
+    }
+    let leaf = Prims::<L, K> { bvh, geom, inst };
+    packet_walk::<L, _, F, ANY>(
+        bvh.nodes(),
+        &leaf,
+        &leaf.prepare(rays),
+        rays,
+        &br,
+        best,
+        filter,
+        ray_base,
+    );
+}
+
+/// A packet through one tree from the root (geometry 0, instance 0).
+fn packet<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    rays: &RayLanes<L>,
+    filter: &mut F,
+    ray_base: u32,
+) -> PacketBest<L> {
+    let mut best = PacketBest::new(rays.t_max);
+    run_packet::<L, K, F, ANY>(bvh, (0, 0), rays, &mut best, filter, ray_base);
     best
+}
+
+/// The packet's best hits as reported.
+pub(super) fn packet_result<L: Lanes>(b: &PacketBest<L>) -> ClosestHit<L> {
+    let (u, v) = barycentrics(b.u, b.v, b.scale);
+    ClosestHit {
+        mask: b.mask,
+        t: b.t,
+        u,
+        v,
+        prim: b.id,
+        geom: b.geom,
+        inst: b.inst,
+    }
 }
 
 /// Closest hit per lane of a packet with kernel `K`. Lane by lane equal to
@@ -554,15 +726,7 @@ fn packet_hits<L: Lanes, K: Kernel<L>, F: HitFilter>(
     filter: &mut F,
     ray_base: u32,
 ) -> ClosestHit<L> {
-    let b = packet::<L, K, F, false>(bvh, rays, filter, ray_base);
-    let (u, v) = barycentrics(b.u, b.v, b.scale);
-    ClosestHit {
-        mask: b.mask,
-        t: b.t,
-        u,
-        v,
-        prim: b.id,
-    }
+    packet_result(&packet::<L, K, F, false>(bvh, rays, filter, ray_base))
 }
 
 /// Closest `t` per lane of a packet: the mask of lanes that hit and their nearest `t`, equal to
@@ -594,13 +758,74 @@ pub fn occluded_packet_with<L: Lanes, K: Kernel<L>, F: HitFilter>(
 }
 
 /// Do all rays of a chunk point into one octant (a coherent packet)?
-fn coherent(rays: &[Ray]) -> bool {
+pub(super) fn coherent(rays: &[Ray]) -> bool {
     let octant = |r: &Ray| {
         (r.dir.x.is_sign_negative() as u8)
             | ((r.dir.y.is_sign_negative() as u8) << 1)
             | ((r.dir.z.is_sign_negative() as u8) << 2)
     };
     rays.iter().all(|r| octant(r) == octant(&rays[0]))
+}
+
+/// The closest-hit slice loop of a tree or a scene: chunks of `L::LANES` rays that share a
+/// direction octant go to `packet`, the others ray by ray to `single` (each given the index of
+/// its first ray).
+#[track_caller]
+pub(super) fn closest_slice<L: Lanes, F: HitFilter>(
+    rays: &[Ray],
+    out: &mut [Option<Hit>],
+    filter: &mut F,
+    mut packet: impl FnMut(&RayLanes<L>, &mut F, u32) -> PacketBest<L>,
+    mut single: impl FnMut(&Ray, &mut F, u32) -> Option<Best<L::Scalar>>,
+) {
+    check_len("closest", rays.len(), out.len());
+    for (c, (chunk, out)) in rays
+        .chunks(L::LANES)
+        .zip(out.chunks_mut(L::LANES))
+        .enumerate()
+    {
+        let base = (c * L::LANES) as u32;
+        if chunk.len() > 1 && coherent(chunk) {
+            let h = packet_result(&packet(&RayLanes::load(chunk), filter, base));
+            for (i, o) in out.iter_mut().enumerate() {
+                *o = h.lane(i);
+            }
+        } else {
+            for (i, (r, o)) in chunk.iter().zip(out).enumerate() {
+                *o = single(r, filter, base + i as u32).map(|b| b.hit());
+            }
+        }
+    }
+}
+
+/// The occlusion slice loop of a tree or a scene, chunks picked as [`closest_slice`] picks
+/// them.
+#[track_caller]
+pub(super) fn occluded_slice<L: Lanes, F: HitFilter>(
+    rays: &[Ray],
+    out: &mut [bool],
+    filter: &mut F,
+    mut packet: impl FnMut(&RayLanes<L>, &mut F, u32) -> L::Mask,
+    mut single: impl FnMut(&Ray, &mut F, u32) -> bool,
+) {
+    check_len("occluded", rays.len(), out.len());
+    for (c, (chunk, out)) in rays
+        .chunks(L::LANES)
+        .zip(out.chunks_mut(L::LANES))
+        .enumerate()
+    {
+        let base = (c * L::LANES) as u32;
+        if chunk.len() > 1 && coherent(chunk) {
+            let m = packet(&RayLanes::load(chunk), filter, base).bitmask();
+            for (i, o) in out.iter_mut().enumerate() {
+                *o = (m >> i) & 1 == 1;
+            }
+        } else {
+            for (i, (r, o)) in chunk.iter().zip(out).enumerate() {
+                *o = single(r, filter, base + i as u32);
+            }
+        }
+    }
 }
 
 /// Closest hit of every ray: `out[i]` for `rays[i]`. Chunks of `L::LANES` rays that share a
@@ -630,26 +855,13 @@ pub fn closest_with<L: Lanes, K: Kernel<L>, F: HitFilter>(
     out: &mut [Option<Hit>],
     filter: &mut F,
 ) {
-    check_len("closest", rays.len(), out.len());
-    for (c, (chunk, out)) in rays
-        .chunks(L::LANES)
-        .zip(out.chunks_mut(L::LANES))
-        .enumerate()
-    {
-        let base = (c * L::LANES) as u32;
-        if chunk.len() > 1 && coherent(chunk) {
-            let h = packet_hits::<L, K, F>(bvh, &RayLanes::load(chunk), filter, base);
-            for (i, o) in out.iter_mut().enumerate() {
-                *o = h.lane(i);
-            }
-        } else {
-            for (i, (r, o)) in chunk.iter().zip(out).enumerate() {
-                *o = single::<L, K, F, false>(bvh, r, filter, base + i as u32)
-                    .1
-                    .map(|b| b.hit());
-            }
-        }
-    }
+    closest_slice::<L, F>(
+        rays,
+        out,
+        filter,
+        |r, f, base| packet::<L, K, F, false>(bvh, r, f, base),
+        |r, f, id| single::<L, K, F, false>(bvh, r, f, id).1,
+    );
 }
 
 /// Occlusion of every ray: `out[i]` for `rays[i]`, packets or single rays as
@@ -674,26 +886,13 @@ pub fn occluded_with<L: Lanes, K: Kernel<L>, F: HitFilter>(
     out: &mut [bool],
     filter: &mut F,
 ) {
-    check_len("occluded", rays.len(), out.len());
-    for (c, (chunk, out)) in rays
-        .chunks(L::LANES)
-        .zip(out.chunks_mut(L::LANES))
-        .enumerate()
-    {
-        let base = (c * L::LANES) as u32;
-        if chunk.len() > 1 && coherent(chunk) {
-            let m = packet::<L, K, F, true>(bvh, &RayLanes::load(chunk), filter, base)
-                .mask
-                .bitmask();
-            for (i, o) in out.iter_mut().enumerate() {
-                *o = (m >> i) & 1 == 1;
-            }
-        } else {
-            for (i, (r, o)) in chunk.iter().zip(out).enumerate() {
-                *o = single::<L, K, F, true>(bvh, r, filter, base + i as u32).0;
-            }
-        }
-    }
+    occluded_slice::<L, F>(
+        rays,
+        out,
+        filter,
+        |r, f, base| packet::<L, K, F, true>(bvh, r, f, base).mask,
+        |r, f, id| single::<L, K, F, true>(bvh, r, f, id).0,
+    );
 }
 
 /// Panics unless `out` has one entry per ray and the rays can be numbered by `u32`.
