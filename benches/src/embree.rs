@@ -94,6 +94,8 @@ const BUFFER_VERTEX: c_int = 1;
 const FORMAT_UINT3: c_int = 0x5003;
 const FORMAT_FLOAT3: c_int = 0x9003;
 const SCENE_FLAG_ROBUST: c_int = 1 << 2;
+const GEOMETRY_INSTANCE: c_int = 121;
+const FORMAT_FLOAT3X4_COLUMN_MAJOR: c_int = 0x9234;
 
 /// The loaded library's entry points.
 struct Api {
@@ -110,6 +112,8 @@ struct Api {
     attach_geometry: unsafe extern "C" fn(Scene, Geometry) -> c_uint,
     release_geometry: unsafe extern "C" fn(Geometry),
     commit_scene: unsafe extern "C" fn(Scene),
+    set_instanced_scene: unsafe extern "C" fn(Geometry, Scene),
+    set_transform: unsafe extern "C" fn(Geometry, c_uint, c_int, *const c_void),
     intersect1: unsafe extern "C" fn(Scene, *mut Context, *mut RtcRayHit),
     occluded1: unsafe extern "C" fn(Scene, *mut Context, *mut RtcRay),
     intersect8: unsafe extern "C" fn(*const c_int, Scene, *mut Context, *mut RtcRayHit8),
@@ -139,6 +143,8 @@ impl Api {
             attach_geometry: sym!(b"rtcAttachGeometry\0"),
             release_geometry: sym!(b"rtcReleaseGeometry\0"),
             commit_scene: sym!(b"rtcCommitScene\0"),
+            set_instanced_scene: sym!(b"rtcSetGeometryInstancedScene\0"),
+            set_transform: sym!(b"rtcSetGeometryTransform\0"),
             intersect1: sym!(b"rtcIntersect1\0"),
             occluded1: sym!(b"rtcOccluded1\0"),
             intersect8: sym!(b"rtcIntersect8\0"),
@@ -152,11 +158,13 @@ impl Api {
 /// unloading the code under them crashes the process.
 static API: std::sync::OnceLock<Result<Api, String>> = std::sync::OnceLock::new();
 
-/// An Embree device (one thread) and a committed triangle scene.
+/// An Embree device (one thread) and a committed triangle scene (or a scene of instances of
+/// one committed triangle scene, `mesh`).
 pub struct EmbreeScene {
     api: &'static Api,
     device: Device,
     scene: Scene,
+    mesh: Option<Scene>,
 }
 
 impl Drop for EmbreeScene {
@@ -164,6 +172,9 @@ impl Drop for EmbreeScene {
         // SAFETY: handles created by this library and released once.
         unsafe {
             (self.api.release_scene)(self.scene);
+            if let Some(m) = self.mesh {
+                (self.api.release_scene)(m);
+            }
             (self.api.release_device)(self.device);
         }
     }
@@ -223,14 +234,90 @@ impl EmbreeScene {
     /// scene and the build's wall time (`rtcCommitScene`), or why Embree is unavailable.
     pub fn build(tris: &[[Vec3; 3]], robust: bool) -> Result<(Self, Duration), String> {
         let api = API.get_or_init(Api::load).as_ref().map_err(Clone::clone)?;
-        // SAFETY: the calls follow Embree's API: a device, a scene, one triangle geometry whose
-        // buffers Embree allocates (`rtcSetNewGeometryBuffer`, sized for `n` items with the
-        // strides given) and this function fills within those sizes.
+        let device = Self::device(api)?;
+        // SAFETY: a device from `Self::device`.
+        let (scene, built) = unsafe { Self::mesh_scene(api, device, tris, robust) };
+        Ok((
+            Self {
+                api,
+                device,
+                scene,
+                mesh: None,
+            },
+            built,
+        ))
+    }
+
+    /// A scene of `places.len()` instances (`RTC_GEOMETRY_TYPE_INSTANCE`) of one triangle mesh,
+    /// each placed by its object → world matrix; the wall time covers the mesh's and the top
+    /// level's commit.
+    pub fn build_instanced(
+        mesh: &[[Vec3; 3]],
+        places: &[glam::Affine3A],
+        robust: bool,
+    ) -> Result<(Self, Duration), String> {
+        let api = API.get_or_init(Api::load).as_ref().map_err(Clone::clone)?;
+        let device = Self::device(api)?;
+        // SAFETY: Embree's instancing API: a committed mesh scene, one instance geometry per
+        // placement with its 3×4 column-major transform (12 floats read during the call), each
+        // committed, attached and released (the scene keeps it).
         unsafe {
-            let device = (api.new_device)(c"threads=1".as_ptr());
-            if device.is_null() {
-                return Err("Embree 3: rtcNewDevice failed".into());
+            let (inner, built) = Self::mesh_scene(api, device, mesh, robust);
+            let scene = (api.new_scene)(device);
+            if robust {
+                (api.set_scene_flags)(scene, SCENE_FLAG_ROBUST);
             }
+            for a in places {
+                let geom = (api.new_geometry)(device, GEOMETRY_INSTANCE);
+                (api.set_instanced_scene)(geom, inner);
+                let cols = a.to_cols_array();
+                (api.set_transform)(
+                    geom,
+                    0,
+                    FORMAT_FLOAT3X4_COLUMN_MAJOR,
+                    cols.as_ptr() as *const c_void,
+                );
+                (api.commit_geometry)(geom);
+                (api.attach_geometry)(scene, geom);
+                (api.release_geometry)(geom);
+            }
+            let start = Instant::now();
+            (api.commit_scene)(scene);
+            Ok((
+                Self {
+                    api,
+                    device,
+                    scene,
+                    mesh: Some(inner),
+                },
+                built + start.elapsed(),
+            ))
+        }
+    }
+
+    fn device(api: &Api) -> Result<Device, String> {
+        // SAFETY: a NUL-terminated configuration string.
+        let device = unsafe { (api.new_device)(c"threads=1".as_ptr()) };
+        if device.is_null() {
+            return Err("Embree 3: rtcNewDevice failed".into());
+        }
+        Ok(device)
+    }
+
+    /// A committed scene of one triangle geometry, and its commit's wall time.
+    ///
+    /// # Safety
+    /// `device` is a live device of `api`.
+    unsafe fn mesh_scene(
+        api: &Api,
+        device: Device,
+        tris: &[[Vec3; 3]],
+        robust: bool,
+    ) -> (Scene, Duration) {
+        // SAFETY: the calls follow Embree's API: a scene, one triangle geometry whose buffers
+        // Embree allocates (`rtcSetNewGeometryBuffer`, sized for `n` items with the strides
+        // given) and this function fills within those sizes.
+        unsafe {
             let scene = (api.new_scene)(device);
             if robust {
                 (api.set_scene_flags)(scene, SCENE_FLAG_ROBUST);
@@ -253,8 +340,7 @@ impl EmbreeScene {
             (api.release_geometry)(geom);
             let start = Instant::now();
             (api.commit_scene)(scene);
-            let built = start.elapsed();
-            Ok((Self { api, device, scene }, built))
+            (scene, start.elapsed())
         }
     }
 

@@ -5,6 +5,7 @@
 #![allow(missing_docs)]
 
 pub mod embree;
+pub mod instancing;
 pub mod peers;
 pub mod report;
 pub mod scene_peers;

@@ -17,6 +17,8 @@ use wide::f32x8;
 pub struct SceneSet {
     pub name: &'static str,
     pub tris: Vec<[Vec3; 3]>,
+    /// Where each mesh of the file starts in `tris` (one mesh: `[0]`).
+    pub meshes: Vec<usize>,
     pub camera: Pinhole,
 }
 
@@ -52,7 +54,9 @@ pub fn sponza() -> Result<SceneSet, String> {
     let (models, _) =
         tobj::load_obj(&path, &opts).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut tris = vec![];
+    let mut meshes = vec![];
     for m in &models {
+        meshes.push(tris.len());
         let p = &m.mesh.positions;
         let v = |i: u32| {
             Vec3::new(
@@ -68,6 +72,7 @@ pub fn sponza() -> Result<SceneSet, String> {
     Ok(SceneSet {
         name: "Sponza",
         tris,
+        meshes,
         camera: Pinhole {
             eye: Vec3::new(-10.0, 3.0, 0.0),
             target: Vec3::new(10.0, 5.0, 0.0),
@@ -106,6 +111,7 @@ pub fn jittered_sphere(n: u32) -> SceneSet {
     SceneSet {
         name: "jittered sphere",
         tris,
+        meshes: vec![0],
         camera: Pinhole {
             eye: Vec3::new(0.0, 0.3, 3.2),
             target: Vec3::ZERO,

@@ -4,12 +4,20 @@
 //!
 //! Run: `RUSTFLAGS="-C target-cpu=native" cargo run --release -p octoray-benches --bin scenes`
 //! (`-- --quick` for one run per row instead of the best of five; `-- --only TEXT` for the rows
-//! whose description contains TEXT, and `-- --sponza` for Sponza alone).
+//! whose description contains TEXT, `-- --sponza` for Sponza alone, `-- --no-scene-model`
+//! without the scene-model and instancing sections).
 
 use octoray::bvh::{Bvh8, Bvh8Ref};
+use octoray::hit::Candidate;
 use octoray::kernels::{MollerTrumbore, Watertight};
-use octoray::prim::{PackedTriangle, VertexTriangle};
+use octoray::lanes::LaneMask;
+use octoray::prim::{PackedTriangle, RayLanes, VertexTriangle};
+use octoray::scene::{closest_packet_with, closest_ray, closest_ray_with};
 use octoray_benches::embree::EmbreeScene;
+use octoray_benches::instancing::{
+    alpha, field, flatten, instanced, scene_of, scene_packets_closest, scene_singles_any,
+    scene_singles_closest, wave,
+};
 use octoray_benches::scene_peers::{BvhScene, ObvhsScene};
 use octoray_benches::scenes::{
     batch_closest, jittered_sphere, packets_any, packets_closest, singles_any, singles_closest,
@@ -428,6 +436,313 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
     }
 }
 
+/// One row of a comparison table: `f` timed over `n` rays; returns Mrays/s and hits.
+fn rate(runs: usize, n: usize, f: &mut dyn FnMut() -> u64) -> (f64, u64) {
+    let (t, hits) = best(runs, f);
+    (n as f64 / t / 1e6, hits)
+}
+
+/// The renderer's scene model on a file of several meshes: one tree against a scene of one
+/// geometry and a scene of one geometry per mesh; refit against rebuild and an animation
+/// refitted frame by frame; alpha-tested leaves through a filter against the restart loop.
+fn scene_model_report(s: &SceneSet, runs: usize, md: &mut String) {
+    let (w, h) = (1024u32, 768u32);
+    let verts = s.vertex_tris();
+    let tree = Bvh8::build(&verts);
+    let p8 = s.primary_tiled(w, h, 4, 2);
+    let bounce = s.diffuse_bounces(&p8, &tree);
+    let one = scene_of(s, false);
+    let many = scene_of(s, true);
+    let geoms = many.geometries().len();
+    writeln!(
+        md,
+        "\n### {}: one tree, a scene of one geometry, a scene of its {geoms} meshes\n",
+        s.name
+    )
+    .unwrap();
+    writeln!(
+        md,
+        "Each geometry placed once (identity instances); watertight triangles, the query mask all ones. Ratios against the one-tree row of the same rays.\n"
+    )
+    .unwrap();
+    writeln!(
+        md,
+        "| rays | query | traversal | one tree | 1 geometry | {geoms} geometries | {geoms} geometries / one tree |"
+    )
+    .unwrap();
+    writeln!(md, "|---|---|---|---|---|---|---|").unwrap();
+    let (tr, r1, rn) = (tree.as_ref(), one.as_ref(), many.as_ref());
+    type Row<'a> = (
+        &'a str,
+        &'a str,
+        &'a str,
+        &'a [octoray::prim::Ray],
+        Box<dyn Fn(&[octoray::prim::Ray]) -> u64 + 'a>,
+        Box<dyn Fn(&[octoray::prim::Ray]) -> u64 + 'a>,
+        Box<dyn Fn(&[octoray::prim::Ray]) -> u64 + 'a>,
+    );
+    let rows: Vec<Row<'_>> = vec![
+        (
+            "primary",
+            "closest",
+            "packet-8",
+            &p8,
+            Box::new(|r| packets_closest::<f32x8, Watertight>(tr, r)),
+            Box::new(|r| scene_packets_closest(r1, r)),
+            Box::new(|r| scene_packets_closest(rn, r)),
+        ),
+        (
+            "primary",
+            "closest",
+            "single ray",
+            &p8,
+            Box::new(|r| singles_closest::<f32x8, Watertight>(tr, r)),
+            Box::new(|r| scene_singles_closest(r1, r)),
+            Box::new(|r| scene_singles_closest(rn, r)),
+        ),
+        (
+            "primary",
+            "any",
+            "single ray",
+            &p8,
+            Box::new(|r| singles_any::<f32x8, Watertight>(tr, r)),
+            Box::new(|r| scene_singles_any(r1, r)),
+            Box::new(|r| scene_singles_any(rn, r)),
+        ),
+        (
+            "diffuse bounce",
+            "closest",
+            "single ray",
+            &bounce,
+            Box::new(|r| singles_closest::<f32x8, Watertight>(tr, r)),
+            Box::new(|r| scene_singles_closest(r1, r)),
+            Box::new(|r| scene_singles_closest(rn, r)),
+        ),
+    ];
+    for (rays, q, how, set, a, b, c) in &rows {
+        let (ra, ha) = rate(runs, set.len(), &mut || a(set));
+        let (rb, hb) = rate(runs, set.len(), &mut || b(set));
+        let (rc, hc) = rate(runs, set.len(), &mut || c(set));
+        assert_eq!((ha, hb), (ha, hc), "the same hits through every structure");
+        eprintln!("{} {rays} {q} {how}: tree {ra:.2}, 1 geometry {rb:.2}, {geoms} geometries {rc:.2} Mrays/s", s.name);
+        writeln!(
+            md,
+            "| {rays} | {q} | {how} | {ra:.2} | {rb:.2} | {rc:.2} | {:.2}× |",
+            rc / ra
+        )
+        .unwrap();
+    }
+
+    // Refit against rebuild, and an animation: the wave's amplitude grows frame by frame; the
+    // refitted tree keeps the first frame's topology.
+    let (build_s, _) = best(runs, || Bvh8::build(&verts).stats().nodes as u64);
+    let moved = wave(&s.tris, 1);
+    let mut refit = tree.clone();
+    let (refit_s, _) = best(runs, || {
+        refit.refit(&moved).expect("same slice");
+        1
+    });
+    let (refit_par_s, _) = best(runs, || {
+        refit
+            .refit_with(&moved, &octoray::parallel::Rayon)
+            .expect("same slice");
+        1
+    });
+    writeln!(
+        md,
+        "\nRefit after every vertex moved (`Bvh8::refit`): **{:.2} ms** ({} threads: {:.2} ms) against a rebuild's {:.1} ms: {:.0}× faster on one thread.\n",
+        refit_s * 1e3,
+        rayon::current_num_threads(),
+        refit_par_s * 1e3,
+        build_s * 1e3,
+        build_s / refit_s
+    )
+    .unwrap();
+    writeln!(
+        md,
+        "| animation frame (wave amplitude) | primary single ray, refitted | rebuilt | refitted / rebuilt | bounce single ray, refitted | rebuilt | refitted / rebuilt |"
+    )
+    .unwrap();
+    writeln!(md, "|---|---|---|---|---|---|---|").unwrap();
+    for frame in [1u32, 4, 16, 64] {
+        let moved = wave(&s.tris, frame);
+        let mut refit = tree.clone();
+        refit.refit(&moved).expect("same slice");
+        let rebuilt = Bvh8::build(&moved);
+        let (a, ha) = rate(runs, p8.len(), &mut || {
+            singles_closest::<f32x8, Watertight>(refit.as_ref(), &p8)
+        });
+        let (b, hb) = rate(runs, p8.len(), &mut || {
+            singles_closest::<f32x8, Watertight>(rebuilt.as_ref(), &p8)
+        });
+        assert_eq!(ha, hb, "refitted and rebuilt trees hit alike");
+        let (c, _) = rate(runs, bounce.len(), &mut || {
+            singles_closest::<f32x8, Watertight>(refit.as_ref(), &bounce)
+        });
+        let (d, _) = rate(runs, bounce.len(), &mut || {
+            singles_closest::<f32x8, Watertight>(rebuilt.as_ref(), &bounce)
+        });
+        writeln!(
+            md,
+            "| {frame} ({:.2}) | {a:.2} | {b:.2} | {:.2}× | {c:.2} | {d:.2} | {:.2}× |",
+            0.02 * frame as f32,
+            a / b,
+            c / d
+        )
+        .unwrap();
+    }
+
+    // Alpha-tested leaves.
+    let mut alpha_f = alpha;
+    let (fa, hf) = rate(runs, p8.len(), &mut || {
+        p8.iter()
+            .filter(|r| closest_ray_with::<f32x8, Watertight, _>(tr, r, &mut alpha_f).is_some())
+            .count() as u64
+    });
+    let (re, hr) = rate(runs, p8.len(), &mut || {
+        p8.iter()
+            .filter(|ray| {
+                let mut ray = **ray;
+                loop {
+                    let Some(h) = closest_ray::<f32x8, Watertight>(tr, &ray) else {
+                        return false;
+                    };
+                    let c = Candidate {
+                        prim: h.prim,
+                        t: h.t,
+                        u: h.u,
+                        v: h.v,
+                        geom: 0,
+                        inst: 0,
+                        ray: 0,
+                    };
+                    if alpha(&c) {
+                        return true;
+                    }
+                    ray.t_min = h.t.next_up();
+                }
+            })
+            .count() as u64
+    });
+    let (pf, _) = rate(runs, p8.len(), &mut || {
+        p8.chunks(8)
+            .map(|c| {
+                u64::from(
+                    closest_packet_with::<f32x8, Watertight, _>(
+                        tr,
+                        &RayLanes::load(c),
+                        &mut alpha_f,
+                    )
+                    .mask
+                    .bitmask()
+                    .count_ones(),
+                )
+            })
+            .sum()
+    });
+    let (none, _) = rate(runs, p8.len(), &mut || {
+        singles_closest::<f32x8, Watertight>(tr, &p8)
+    });
+    writeln!(
+        md,
+        "\nAlpha-tested leaves (every other triangle cut out in a 6×6 checkerboard of its barycentrics), primary closest hit, one thread: hit filter **{fa:.2}** Mrays/s single ray ({hf} hits), {pf:.2} packet-8; the restart loop a renderer writes without one (trace again from just past each cut-out hit) {re:.2} ({hr} hits): the filter is {:.2}× the loop. Without alpha: {none:.2}.",
+        fa / re
+    )
+    .unwrap();
+}
+
+/// A field of instances of one mesh: the two-level scene against the same triangles flattened
+/// into one tree, and against Embree 3's instancing (`RTC_GEOMETRY_TYPE_INSTANCE`).
+fn instancing_report(runs: usize, md: &mut String) {
+    let side = 16u32;
+    let mesh = jittered_sphere(64).tris;
+    let (places, camera) = field(side);
+    let flat = SceneSet {
+        name: "instanced field (flattened)",
+        tris: flatten(&mesh, &places),
+        meshes: vec![0],
+        camera,
+    };
+    let (w, h) = (1024u32, 768u32);
+    let t0 = Instant::now();
+    let scene = instanced(&mesh, &places);
+    let scene_build = t0.elapsed().as_secs_f64();
+    let t0 = Instant::now();
+    let tree = Bvh8::build(&flat.vertex_tris());
+    let flat_build = t0.elapsed().as_secs_f64();
+    let p8 = flat.primary_tiled(w, h, 4, 2);
+    let bounce = flat.diffuse_bounces(&p8, &tree);
+    writeln!(
+        md,
+        "\n### Instancing: {} instances of a {}-triangle mesh ({} triangles flattened)\n",
+        places.len(),
+        mesh.len(),
+        flat.tris.len()
+    )
+    .unwrap();
+    writeln!(
+        md,
+        "Random rotations and scales 0.6–1.4 on a grid; {} primary rays at {w}×{h}, {} diffuse-bounce rays (from the flattened tree's hits). Builds: two-level {:.3} s (the mesh once, then the top level over the instances), flattened {:.3} s. Hit counts differ slightly: the flattened triangles are the instances' vertices rounded to f32 in world space, the two-level scene tests the exact mesh with each ray carried into object space.\n",
+        p8.len(),
+        bounce.len(),
+        scene_build,
+        flat_build
+    )
+    .unwrap();
+    let sr = scene.as_ref();
+    let tr = tree.as_ref();
+    let embree = EmbreeScene::build_instanced(&mesh, &places, true);
+    let embree_flat = EmbreeScene::build(&flat.tris, true);
+    writeln!(
+        md,
+        "| rays | query | traversal | two-level | flattened | two-level / flattened | Embree 3 robust, instanced | two-level / Embree instanced | Embree 3 robust, flattened |"
+    )
+    .unwrap();
+    writeln!(md, "|---|---|---|---|---|---|---|---|---|").unwrap();
+    let rows: [(&str, &str, &str, &[octoray::prim::Ray]); 4] = [
+        ("primary", "closest", "packet-8", &p8),
+        ("primary", "closest", "single ray", &p8),
+        ("primary", "any", "single ray", &p8),
+        ("diffuse bounce", "closest", "single ray", &bounce),
+    ];
+    for (k, (rays, q, how, set)) in rows.iter().enumerate() {
+        let (a, ha) = rate(runs, set.len(), &mut || match k {
+            0 => scene_packets_closest(sr, set),
+            2 => scene_singles_any(sr, set),
+            _ => scene_singles_closest(sr, set),
+        });
+        let (b, hb) = rate(runs, set.len(), &mut || match k {
+            0 => packets_closest::<f32x8, Watertight>(tr, set),
+            2 => singles_any::<f32x8, Watertight>(tr, set),
+            _ => singles_closest::<f32x8, Watertight>(tr, set),
+        });
+        let em = |e: &Result<(EmbreeScene, std::time::Duration), String>| match e {
+            Ok((e, _)) => {
+                let (r, hits) = rate(runs, set.len(), &mut || match k {
+                    0 => e.closest8(set),
+                    2 => e.any1(set),
+                    _ => e.closest1(set),
+                });
+                (Some(r), format!("{r:.2} ({hits} hits)"))
+            }
+            Err(_) => (None, "n/a".into()),
+        };
+        let (ei, ei_s) = em(&embree);
+        let (_, ef_s) = em(&embree_flat);
+        eprintln!("instancing {rays} {q} {how}: two-level {a:.2}, flattened {b:.2}, Embree instanced {ei_s}");
+        writeln!(
+            md,
+            "| {rays} | {q} | {how} | {a:.2} ({ha} hits) | {b:.2} ({hb} hits) | {:.2}× | {ei_s} | {} | {ef_s} |",
+            a / b,
+            ei.map_or("n/a".into(), |e| format!("{:.2}×", a / e))
+        )
+        .unwrap();
+    }
+    if let Err(e) = &embree {
+        writeln!(md, "\nEmbree rows skipped: {e}.").unwrap();
+    }
+}
+
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
     let runs = if quick { 1 } else { 5 };
@@ -439,9 +754,18 @@ fn main() {
         flags()
     )
     .unwrap();
+    let scene_model = !std::env::args().any(|a| a == "--no-scene-model");
     match sponza() {
-        Ok(s) => report(&s, runs, &mut md),
+        Ok(s) => {
+            report(&s, runs, &mut md);
+            if scene_model {
+                scene_model_report(&s, runs, &mut md);
+            }
+        }
         Err(e) => writeln!(md, "\nSponza skipped: {e}").unwrap(),
+    }
+    if scene_model {
+        instancing_report(runs, &mut md);
     }
     if !std::env::args().any(|a| a == "--sponza") {
         report(&jittered_sphere(1024), runs, &mut md);

@@ -19,8 +19,22 @@ const BINS: usize = 32;
 fn bins_for(n: usize) -> usize {
     (n / 4).clamp(4, BINS)
 }
-/// Largest leaf.
-const MAX_LEAF: usize = BLOCK;
+/// Where a node lies in the binary build: its depth, and the largest leaf of the layout
+/// ([`Primitive::LEAF`]).
+#[derive(Clone, Copy)]
+struct Level {
+    depth: usize,
+    max_leaf: usize,
+}
+
+impl Level {
+    fn down(self) -> Self {
+        Self {
+            depth: self.depth + 1,
+            ..self
+        }
+    }
+}
 /// SAH cost of visiting a node, relative to testing one block of [`BLOCK`] primitives (one ray
 /// against a node's eight boxes costs about what it costs against eight triangles at once).
 const TRAVERSAL_COST: f32 = 1.0;
@@ -158,7 +172,15 @@ impl<P: Primitive> Bvh8<P> {
         let bin = if items.is_empty() {
             Vec::new()
         } else {
-            subtree(&mut items, 0, 0, join)
+            subtree(
+                &mut items,
+                0,
+                Level {
+                    depth: 0,
+                    max_leaf: P::LEAF.clamp(1, BLOCK),
+                },
+                join,
+            )
         };
 
         // Collapse into 8-wide nodes, parents before children; each leaf's primitives go out in
@@ -456,14 +478,14 @@ const PARALLEL_MIN: usize = 8192;
 /// with the root first; `base` is the position of `items[0]` among all items. The two halves of
 /// a split go to `join`; the tree is the same whether it runs them one after the other or at
 /// once (each half only reads and reorders its own items).
-fn subtree<J: Join>(items: &mut [Item], base: usize, depth: usize, join: &J) -> Vec<BinNode> {
+fn subtree<J: Join>(items: &mut [Item], base: usize, level: Level, join: &J) -> Vec<BinNode> {
     let mut scratch = Vec::new();
     let mut out = Vec::new();
     if items.len() < PARALLEL_MIN {
-        split(&mut out, items, &mut scratch, base, 0, items.len(), depth);
+        split(&mut out, items, &mut scratch, base, 0, items.len(), level);
         return out;
     }
-    let (bounds, mid) = decide(items, &mut scratch, depth);
+    let (bounds, mid) = decide(items, &mut scratch, level);
     drop(scratch);
     out.push(BinNode {
         bounds,
@@ -477,8 +499,8 @@ fn subtree<J: Join>(items: &mut [Item], base: usize, depth: usize, join: &J) -> 
     };
     let (l, r) = items.split_at_mut(mid);
     let (left, right) = join.join(
-        || subtree(l, base, depth + 1, join),
-        || subtree(r, base + mid, depth + 1, join),
+        || subtree(l, base, level.down(), join),
+        || subtree(r, base + mid, level.down(), join),
     );
     // Preorder: the left subtree right after the root, then the right one; child indices
     // shifted by where each subtree lands.
@@ -507,9 +529,9 @@ fn split(
     base: usize,
     start: usize,
     end: usize,
-    depth: usize,
+    level: Level,
 ) -> usize {
-    let (bounds, mid) = decide(&mut all[start..end], scratch, depth);
+    let (bounds, mid) = decide(&mut all[start..end], scratch, level);
     let me = out.len();
     out.push(BinNode {
         bounds,
@@ -519,8 +541,8 @@ fn split(
         count: end - start,
     });
     if let Some(mid) = mid {
-        let left = split(out, all, scratch, base, start, start + mid, depth + 1);
-        let right = split(out, all, scratch, base, start + mid, end, depth + 1);
+        let left = split(out, all, scratch, base, start, start + mid, level.down());
+        let right = split(out, all, scratch, base, start + mid, end, level.down());
         out[me].left = left;
         out[me].right = right;
     }
@@ -529,7 +551,8 @@ fn split(
 
 /// The box of `all`'s items and where to split them (`Some(k)`: `all[..k]` and `all[k..]`,
 /// after reordering), or `None` for a leaf.
-fn decide(all: &mut [Item], scratch: &mut Vec<Item>, depth: usize) -> (Aabb, Option<usize>) {
+fn decide(all: &mut [Item], scratch: &mut Vec<Item>, level: Level) -> (Aabb, Option<usize>) {
+    let Level { depth, max_leaf } = level;
     let n = all.len();
     let items = &all[..];
     let bounds = items.iter().fold(Aabb::EMPTY, |b, i| b.union(i.bx));
@@ -585,7 +608,7 @@ fn decide(all: &mut [Item], scratch: &mut Vec<Item>, depth: usize) -> (Aabb, Opt
     }
 
     let mid = match best {
-        Some((cost, _, _)) if n <= MAX_LEAF && cost >= leaf => return (bounds, None),
+        Some((cost, _, _)) if n <= max_leaf && cost >= leaf => return (bounds, None),
         Some((_, axis, left_bins)) => {
             let (lo, hi) = (cb.lo[axis], cb.hi[axis]);
             let scale = nb as f32 / (hi - lo);
@@ -593,7 +616,7 @@ fn decide(all: &mut [Item], scratch: &mut Vec<Item>, depth: usize) -> (Aabb, Opt
                 bin_of(i.c[axis], lo, scale, nb) < left_bins
             })
         }
-        None if n <= MAX_LEAF && depth < BALANCED_FROM => return (bounds, None),
+        None if n <= max_leaf && depth < BALANCED_FROM => return (bounds, None),
         None => {
             // No SAH split (every centre in one bin) or too deep: split by count along the widest
             // centre axis, ties by index, so the tree stays balanced.
@@ -605,7 +628,7 @@ fn decide(all: &mut [Item], scratch: &mut Vec<Item>, depth: usize) -> (Aabb, Opt
                 })
                 .unwrap_or(0);
             all.sort_by(|a, b| a.c[axis].total_cmp(&b.c[axis]).then(a.local.cmp(&b.local)));
-            if n <= MAX_LEAF {
+            if n <= max_leaf {
                 return (bounds, None);
             }
             n / 2

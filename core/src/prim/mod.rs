@@ -100,6 +100,9 @@ pub trait Primitive: Copy + bytemuck::Pod {
     type Lanes<L: Lanes>: Copy;
     /// `f32` words per primitive (the layout is `WORDS` plain `f32`s).
     const WORDS: usize = core::mem::size_of::<Self>() / 4;
+    /// The largest leaf the BVH builder makes of this layout (1 to [`BLOCK`]; one block's worth
+    /// for primitives, one for a scene's instances, whose leaves each enter a tree).
+    const LEAF: usize = BLOCK;
     /// `self` in every lane.
     #[inline(always)]
     fn splat<L: Lanes>(&self) -> Self::Lanes<L> {

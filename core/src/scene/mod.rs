@@ -103,6 +103,8 @@ pub struct InstanceBox {
 
 impl Primitive for InstanceBox {
     type Lanes<L: Lanes> = ();
+    // One instance per leaf: the node test is then each instance's own box test.
+    const LEAF: usize = 1;
     #[inline(always)]
     fn from_words<L: Lanes, W: Words>(_: &W) -> Self::Lanes<L> {}
     fn bounds(&self) -> Option<Aabb> {
