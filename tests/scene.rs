@@ -12,7 +12,8 @@ use octoray::kernels::{Kernel, MollerTrumbore, StableSphere, Watertight};
 use octoray::lanes::{LaneMask, Lanes};
 use octoray::prim::{PackedSphere, PackedTriangle, Primitive, Ray, RayLanes, VertexTriangle};
 use octoray::scene::{
-    Geometry, Instance, Scene, SceneError, SceneParts, SceneRef, Trace, Transform,
+    Geometry, Instance, Member, Scene, SceneError, SceneParts, SceneRef, SceneTree, Trace,
+    Transform,
 };
 use octoray::{f32x16, f32x4, f32x8, query};
 use proptest::prelude::*;
@@ -26,10 +27,18 @@ enum Geom<T> {
     Spheres(Vec<PackedSphere>),
 }
 
+/// A placement of a set of geometries (sorted, one kind).
+#[derive(Clone)]
+struct Place {
+    geoms: Vec<u32>,
+    transform: Transform,
+    mask: u32,
+}
+
 /// A test world: geometries (with masks), instances, and the scene built from them.
 struct World<T> {
     geoms: Vec<(Geom<T>, u32)>,
-    insts: Vec<Instance>,
+    insts: Vec<Place>,
 }
 
 impl<T: Primitive + Sync> World<T> {
@@ -43,7 +52,7 @@ impl<T: Primitive + Sync> World<T> {
             s.set_geometry_mask(id, *mask);
         }
         for i in &self.insts {
-            s.add_instance(i.geom, i.transform, i.mask);
+            s.add_instance(&i.geoms, i.transform, i.mask);
         }
         s.commit();
         s
@@ -77,28 +86,30 @@ where
     let mut best: Option<(S1::Scalar, Hit)> = None;
     let mut any = false;
     for (i, inst) in w.insts.iter().enumerate() {
-        let (g, gmask) = &w.geoms[inst.geom as usize];
-        if inst.mask & gmask & mask == 0 {
-            continue;
-        }
         let r = RayLanes::<S1>::single(&inst.transform.apply(ray));
-        let (h, occ) = match g {
-            Geom::Tris(p) => (
-                query::closest::<S1, KT>(&r, p),
-                query::occluded::<S1, KT>(&r, p),
-            ),
-            Geom::Spheres(p) => (
-                query::closest::<S1, KS>(&r, p),
-                query::occluded::<S1, KS>(&r, p),
-            ),
-        };
-        any |= occ.bitmask() & 1 == 1;
-        if let Some(mut hit) = h.lane(0) {
-            hit.geom = inst.geom;
-            hit.inst = i as u32;
-            let t = h.t.lane(0);
-            if best.is_none_or(|(bt, _)| t < bt) {
-                best = Some((t, hit));
+        for &geom in &inst.geoms {
+            let (g, gmask) = &w.geoms[geom as usize];
+            if inst.mask & gmask & mask == 0 {
+                continue;
+            }
+            let (h, occ) = match g {
+                Geom::Tris(p) => (
+                    query::closest::<S1, KT>(&r, p),
+                    query::occluded::<S1, KT>(&r, p),
+                ),
+                Geom::Spheres(p) => (
+                    query::closest::<S1, KS>(&r, p),
+                    query::occluded::<S1, KS>(&r, p),
+                ),
+            };
+            any |= occ.bitmask() & 1 == 1;
+            if let Some(mut hit) = h.lane(0) {
+                hit.geom = geom;
+                hit.inst = i as u32;
+                let t = h.t.lane(0);
+                if best.is_none_or(|(bt, _)| t < bt) {
+                    best = Some((t, hit));
+                }
             }
         }
     }
@@ -262,12 +273,22 @@ fn world<T: Primitive + Sync>(seed: u64, pack: fn(&[[Vec3; 3]]) -> Vec<T>) -> (W
     let mut insts = Vec::new();
     let mut targets = Vec::new();
     for k in 0..n_inst {
-        let geom = rng.below(n_geoms as u64) as u32;
+        // One geometry, or now and then every geometry of its kind (one tree over several).
+        let first = rng.below(n_geoms as u64) as usize;
+        let spheres = |g: &Geom<T>| matches!(g, Geom::Spheres(_));
+        let set: Vec<u32> = if rng.below(3) == 0 {
+            (0..n_geoms)
+                .filter(|&g| spheres(&geoms[g].0) == spheres(&geoms[first].0))
+                .map(|g| g as u32)
+                .collect()
+        } else {
+            vec![first as u32]
+        };
         // Now and then the same placement twice: ties across instances.
         let transform = if k > 0 && rng.below(6) == 0 {
             insts
                 .last()
-                .map_or(Transform::IDENTITY, |i: &Instance| i.transform)
+                .map_or(Transform::IDENTITY, |i: &Place| i.transform)
         } else {
             transform(&mut rng, s)
         };
@@ -276,17 +297,19 @@ fn world<T: Primitive + Sync>(seed: u64, pack: fn(&[[Vec3; 3]]) -> Vec<T>) -> (W
         } else {
             u32::MAX
         };
-        insts.push(Instance {
-            transform,
-            geom,
-            mask,
-        });
-        // World points of the geometry: object points mapped back (approximately).
+        // World points of the geometries: object points mapped back (approximately).
         if let Some(inv) = inverse_affine(&transform) {
-            for p in &local[geom as usize] {
-                targets.push(inv.transform_point3(*p));
+            for &g in &set {
+                for p in &local[g as usize] {
+                    targets.push(inv.transform_point3(*p));
+                }
             }
         }
+        insts.push(Place {
+            geoms: set,
+            transform,
+            mask,
+        });
     }
     if targets.is_empty() {
         targets.push(Vec3::ZERO);
@@ -393,9 +416,9 @@ fn equal_t_across_instances_goes_to_the_lower_instance() {
     let mut s = Scene::<VertexTriangle, PackedSphere>::new();
     let g = s.add_triangles(&pack_vertex(&[tri, tri])).unwrap();
     let shift = Transform::placing(Affine3A::from_translation(Vec3::new(0.0, 0.0, 1.0))).unwrap();
-    s.add_instance(g, shift, u32::MAX);
-    s.add_instance(g, Transform::IDENTITY, 2);
-    s.add_instance(g, Transform::IDENTITY, u32::MAX);
+    s.add_instance(&[g], shift, u32::MAX);
+    s.add_instance(&[g], Transform::IDENTITY, 2);
+    s.add_instance(&[g], Transform::IDENTITY, u32::MAX);
     s.commit();
     let ray = Ray::new(Vec3::new(0.1, 0.0, -2.0), Vec3::Z);
     let h = s
@@ -433,7 +456,7 @@ fn filters_see_geometry_and_instance() {
         for (k, ray) in rays.iter().enumerate() {
             let mut seen_ok = true;
             let mut filter = |c: &Candidate| {
-                seen_ok &= c.geom == w.insts[c.inst as usize].geom && c.ray == 0;
+                seen_ok &= w.insts[c.inst as usize].geoms.contains(&c.geom) && c.ray == 0;
                 c.inst != banned
             };
             let got =
@@ -509,7 +532,7 @@ fn tracing_an_uncommitted_scene_panics() {
     let g = s
         .add_spheres(&[PackedSphere::new(Vec3::ZERO, 1.0)])
         .unwrap();
-    s.add_instance(g, Transform::IDENTITY, !0);
+    s.add_instance(&[g], Transform::IDENTITY, !0);
     let _ = s.as_ref();
 }
 
@@ -522,6 +545,8 @@ struct Stored {
     sph: Tree,
     top: Tree,
     geoms: Vec<Geometry>,
+    trees: Vec<SceneTree>,
+    members: Vec<Member>,
     insts: Vec<Instance>,
     unbounded: Vec<u32>,
 }
@@ -536,6 +561,8 @@ impl Stored {
             sph: t(&p.spheres),
             top: t(&p.top),
             geoms: p.geometries.to_vec(),
+            trees: p.trees.to_vec(),
+            members: p.members.to_vec(),
             insts: p.instances.to_vec(),
             unbounded: p.unbounded.to_vec(),
         }
@@ -553,6 +580,8 @@ impl Stored {
             triangles: t(&self.tri),
             spheres: t(&self.sph),
             geometries: &self.geoms,
+            trees: &self.trees,
+            members: &self.members,
             instances: &self.insts,
             top: t(&self.top),
             unbounded: &self.unbounded,
@@ -568,6 +597,8 @@ impl Stored {
             out.extend(t.2.iter_mut());
         }
         out.extend(bytemuck::cast_slice_mut::<_, u32>(&mut self.geoms[..]).iter_mut());
+        out.extend(bytemuck::cast_slice_mut::<_, u32>(&mut self.trees[..]).iter_mut());
+        out.extend(bytemuck::cast_slice_mut::<_, u32>(&mut self.members[..]).iter_mut());
         out.extend(bytemuck::cast_slice_mut::<_, u32>(&mut self.insts[..]).iter_mut());
         out.extend(self.unbounded.iter_mut());
         out
@@ -605,8 +636,9 @@ fn stored_scenes_validate_and_corrupted_ones_never_panic() {
                     for ray in &rays {
                         if let Some(h) = r.closest_ray::<f32x8, Watertight, StableSphere>(ray, !0) {
                             let inst = &r.instances()[h.inst as usize];
-                            assert_eq!(inst.geom, h.geom);
-                            assert!(h.prim < r.geometries()[h.geom as usize].prims);
+                            let tree = &r.trees()[inst.tree as usize];
+                            assert!(h.geom < r.geometries().len() as u32);
+                            assert!(h.prim < tree.prims);
                             assert!(h.t.is_finite());
                         }
                         r.occluded_ray::<f32x8, Watertight, StableSphere>(ray, !0);
@@ -624,7 +656,7 @@ fn malformed_scenes_name_what_is_wrong() {
     let (w, _) = world(7, pack_vertex);
     let scene = w.scene();
     let mut s = Stored::of(&scene.parts());
-    s.insts[0].geom = 1000;
+    s.insts[0].tree = 1000;
     assert_eq!(
         SceneRef::<VertexTriangle, PackedSphere>::new(s.parts()).unwrap_err(),
         SceneError::BadInstance { inst: 0 }
@@ -633,7 +665,13 @@ fn malformed_scenes_name_what_is_wrong() {
     s.geoms[0].kind = 7;
     assert_eq!(
         SceneRef::<VertexTriangle, PackedSphere>::new(s.parts()).unwrap_err(),
-        SceneError::BadKind { geom: 0 }
+        SceneError::BadKind { at: 0 }
+    );
+    let mut s = Stored::of(&scene.parts());
+    s.members[0].first_prim = 1;
+    assert_eq!(
+        SceneRef::<VertexTriangle, PackedSphere>::new(s.parts()).unwrap_err(),
+        SceneError::BadMembers { tree: 0 }
     );
     let mut s = Stored::of(&scene.parts());
     s.unbounded.push(u32::MAX);

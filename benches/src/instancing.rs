@@ -18,23 +18,40 @@ pub fn alpha(c: &Candidate) -> bool {
     c.prim % 2 == 1 || ((c.u * 6.0) as i32 + (c.v * 6.0) as i32) % 2 == 0
 }
 
-/// The scene of `s` with each of its meshes as a geometry (one identity instance each), or all
-/// of it as one geometry.
-pub fn scene_of(s: &SceneSet, per_mesh: bool) -> Scene<VertexTriangle, PackedSphere> {
+/// How a file's meshes go into a scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Layout {
+    /// All triangles as one geometry.
+    OneGeometry,
+    /// Each mesh a geometry, all in one tree (one instance of the set).
+    MeshesOneTree,
+    /// Each mesh a geometry with its own tree and instance (a two-level scene).
+    MeshesInstanced,
+}
+
+/// The scene of `s` in `layout`.
+pub fn scene_of(s: &SceneSet, layout: Layout) -> Scene<VertexTriangle, PackedSphere> {
     let verts = s.vertex_tris();
-    let mut bounds: Vec<usize> = if per_mesh {
-        s.meshes.clone()
-    } else {
+    let mut bounds: Vec<usize> = if layout == Layout::OneGeometry {
         vec![0]
+    } else {
+        s.meshes.clone()
     };
     bounds.push(verts.len());
     let mut scene = Scene::new();
+    let mut geoms = Vec::new();
     for w in bounds.windows(2) {
         if w[0] == w[1] {
             continue;
         }
-        let g = scene.add_triangles(&verts[w[0]..w[1]]).expect("build");
-        scene.add_instance(g, Transform::IDENTITY, u32::MAX);
+        geoms.push(scene.add_triangles(&verts[w[0]..w[1]]).expect("build"));
+    }
+    if layout == Layout::MeshesInstanced {
+        for g in geoms {
+            scene.add_instance(&[g], Transform::IDENTITY, u32::MAX);
+        }
+    } else {
+        scene.add_instance(&geoms, Transform::IDENTITY, u32::MAX);
     }
     scene.commit();
     scene
@@ -90,7 +107,7 @@ pub fn instanced(mesh: &[[Vec3; 3]], places: &[Affine3A]) -> Scene<VertexTriangl
     let g = scene.add_triangles(&verts).expect("build");
     for a in places {
         let t = Transform::placing(*a).expect("invertible");
-        scene.add_instance(g, t, u32::MAX);
+        scene.add_instance(&[g], t, u32::MAX);
     }
     scene.commit();
     scene
@@ -102,10 +119,8 @@ type Wt<'a> = SceneRef<'a, VertexTriangle, PackedSphere>;
 pub fn scene_packets_closest(scene: Wt<'_>, rays: &[Ray]) -> u64 {
     rays.chunks(8)
         .map(|c| {
-            let h = scene.closest_packet::<f32x8, Watertight, StableSphere>(
-                &RayLanes::load(c),
-                u32::MAX,
-            );
+            let h = scene
+                .closest_packet::<f32x8, Watertight, StableSphere>(&RayLanes::load(c), u32::MAX);
             u64::from(h.mask.bitmask().count_ones())
         })
         .sum()
@@ -133,7 +148,8 @@ pub fn scene_singles_any(scene: Wt<'_>, rays: &[Ray]) -> u64 {
 /// (0.02 of the scene's extent per frame), the mesh's topology kept.
 pub fn wave(tris: &[[Vec3; 3]], frame: u32) -> Vec<VertexTriangle> {
     let a = 0.02 * frame as f32;
-    let move_v = |v: Vec3| v + Vec3::new((v.y * 0.7).sin(), (v.z * 0.5).cos(), (v.x * 0.3).sin()) * a;
+    let move_v =
+        |v: Vec3| v + Vec3::new((v.y * 0.7).sin(), (v.z * 0.5).cos(), (v.x * 0.3).sin()) * a;
     tris.iter()
         .map(|t| VertexTriangle::new(move_v(t[0]), move_v(t[1]), move_v(t[2])))
         .collect()

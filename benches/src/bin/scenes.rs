@@ -16,7 +16,7 @@ use octoray::scene::{closest_packet_with, closest_ray, closest_ray_with};
 use octoray_benches::embree::EmbreeScene;
 use octoray_benches::instancing::{
     alpha, field, flatten, instanced, scene_of, scene_packets_closest, scene_singles_any,
-    scene_singles_closest, wave,
+    scene_singles_closest, wave, Layout,
 };
 use octoray_benches::scene_peers::{BvhScene, ObvhsScene};
 use octoray_benches::scenes::{
@@ -451,32 +451,34 @@ fn scene_model_report(s: &SceneSet, runs: usize, md: &mut String) {
     let tree = Bvh8::build(&verts);
     let p8 = s.primary_tiled(w, h, 4, 2);
     let bounce = s.diffuse_bounces(&p8, &tree);
-    let one = scene_of(s, false);
-    let many = scene_of(s, true);
+    let one = scene_of(s, Layout::OneGeometry);
+    let many = scene_of(s, Layout::MeshesOneTree);
+    let inst = scene_of(s, Layout::MeshesInstanced);
     let geoms = many.geometries().len();
     writeln!(
         md,
-        "\n### {}: one tree, a scene of one geometry, a scene of its {geoms} meshes\n",
+        "\n### {}: one tree against scenes of its meshes\n",
         s.name
     )
     .unwrap();
     writeln!(
         md,
-        "Each geometry placed once (identity instances); watertight triangles, the query mask all ones. Ratios against the one-tree row of the same rays.\n"
+        "The same triangles, watertight, the query mask all ones: `Bvh8` alone; a scene of one geometry; a scene of its {geoms} meshes as geometries in one tree (one instance of the set: what a renderer does with static meshes); the {geoms} meshes each in its own tree and instance (two levels, identity transforms). Ratios against the one-tree row of the same rays.\n"
     )
     .unwrap();
     writeln!(
         md,
-        "| rays | query | traversal | one tree | 1 geometry | {geoms} geometries | {geoms} geometries / one tree |"
+        "| rays | query | traversal | one tree | 1 geometry | {geoms} geometries, one tree | {geoms} geometries / one tree | {geoms} instances | {geoms} instances / one tree |"
     )
     .unwrap();
-    writeln!(md, "|---|---|---|---|---|---|---|").unwrap();
-    let (tr, r1, rn) = (tree.as_ref(), one.as_ref(), many.as_ref());
+    writeln!(md, "|---|---|---|---|---|---|---|---|---|").unwrap();
+    let (tr, r1, rn, ri) = (tree.as_ref(), one.as_ref(), many.as_ref(), inst.as_ref());
     type Row<'a> = (
         &'a str,
         &'a str,
         &'a str,
         &'a [octoray::prim::Ray],
+        Box<dyn Fn(&[octoray::prim::Ray]) -> u64 + 'a>,
         Box<dyn Fn(&[octoray::prim::Ray]) -> u64 + 'a>,
         Box<dyn Fn(&[octoray::prim::Ray]) -> u64 + 'a>,
         Box<dyn Fn(&[octoray::prim::Ray]) -> u64 + 'a>,
@@ -490,6 +492,7 @@ fn scene_model_report(s: &SceneSet, runs: usize, md: &mut String) {
             Box::new(|r| packets_closest::<f32x8, Watertight>(tr, r)),
             Box::new(|r| scene_packets_closest(r1, r)),
             Box::new(|r| scene_packets_closest(rn, r)),
+            Box::new(|r| scene_packets_closest(ri, r)),
         ),
         (
             "primary",
@@ -499,6 +502,7 @@ fn scene_model_report(s: &SceneSet, runs: usize, md: &mut String) {
             Box::new(|r| singles_closest::<f32x8, Watertight>(tr, r)),
             Box::new(|r| scene_singles_closest(r1, r)),
             Box::new(|r| scene_singles_closest(rn, r)),
+            Box::new(|r| scene_singles_closest(ri, r)),
         ),
         (
             "primary",
@@ -508,6 +512,7 @@ fn scene_model_report(s: &SceneSet, runs: usize, md: &mut String) {
             Box::new(|r| singles_any::<f32x8, Watertight>(tr, r)),
             Box::new(|r| scene_singles_any(r1, r)),
             Box::new(|r| scene_singles_any(rn, r)),
+            Box::new(|r| scene_singles_any(ri, r)),
         ),
         (
             "diffuse bounce",
@@ -517,18 +522,28 @@ fn scene_model_report(s: &SceneSet, runs: usize, md: &mut String) {
             Box::new(|r| singles_closest::<f32x8, Watertight>(tr, r)),
             Box::new(|r| scene_singles_closest(r1, r)),
             Box::new(|r| scene_singles_closest(rn, r)),
+            Box::new(|r| scene_singles_closest(ri, r)),
         ),
     ];
-    for (rays, q, how, set, a, b, c) in &rows {
+    for (rays, q, how, set, a, b, c, d) in &rows {
         let (ra, ha) = rate(runs, set.len(), &mut || a(set));
         let (rb, hb) = rate(runs, set.len(), &mut || b(set));
         let (rc, hc) = rate(runs, set.len(), &mut || c(set));
-        assert_eq!((ha, hb), (ha, hc), "the same hits through every structure");
-        eprintln!("{} {rays} {q} {how}: tree {ra:.2}, 1 geometry {rb:.2}, {geoms} geometries {rc:.2} Mrays/s", s.name);
+        let (rd, hd) = rate(runs, set.len(), &mut || d(set));
+        assert_eq!(
+            [ha, ha, ha],
+            [hb, hc, hd],
+            "the same hits through every structure"
+        );
+        eprintln!(
+            "{} {rays} {q} {how}: tree {ra:.2}, 1 geometry {rb:.2}, {geoms} in one tree {rc:.2}, {geoms} instances {rd:.2} Mrays/s",
+            s.name
+        );
         writeln!(
             md,
-            "| {rays} | {q} | {how} | {ra:.2} | {rb:.2} | {rc:.2} | {:.2}× |",
-            rc / ra
+            "| {rays} | {q} | {how} | {ra:.2} | {rb:.2} | {rc:.2} | {:.2}× | {rd:.2} | {:.2}× |",
+            rc / ra,
+            rd / ra
         )
         .unwrap();
     }

@@ -57,37 +57,65 @@ pub const TRIANGLES: u32 = 0;
 /// [`Geometry::kind`] of a set of spheres (the scene's sphere layout).
 pub const SPHERES: u32 = 1;
 
-/// One geometry of a scene: its kind, its mask, and where its tree lies in the slices of its
-/// kind (nodes `first_node..first_node + nodes`, blocks `first_block..first_block + blocks`; the
-/// geometries of one kind follow one another in those slices).
+/// One geometry of a scene: a primitive slice of one kind, with a mask.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Geometry {
     /// [`TRIANGLES`] or [`SPHERES`].
     pub kind: u32,
-    /// ANDed with the instance's and the query's mask: no common bit, not visited.
+    /// ANDed with the instance's and the query's mask: no common bit, its hits do not count.
     pub mask: u32,
-    /// Length of the primitive slice its tree was built from (reported `prim` is below it).
+    /// Length of its primitive slice (a reported `prim` is below it).
+    pub prims: u32,
+}
+
+/// One bottom-level tree of a scene: a BVH over one or more geometries of one kind (their
+/// primitives one after another, in the order of its members), and where it lies in the slices
+/// of its kind (nodes `first_node..first_node + nodes`, blocks `first_block..first_block +
+/// blocks`; the trees of one kind follow one another there).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct SceneTree {
+    /// [`TRIANGLES`] or [`SPHERES`].
+    pub kind: u32,
+    /// Its members' primitives together.
     pub prims: u32,
     /// Its root's index in the nodes of its kind.
     pub first_node: u32,
-    /// Its number of nodes (0: an empty geometry, never hit).
+    /// Its number of nodes (0: empty, never hit).
     pub nodes: u32,
     /// Its first block in the blocks of its kind.
     pub first_block: u32,
     /// Its number of blocks of [`BLOCK`] primitives.
     pub blocks: u32,
+    /// Its first member in the scene's member list.
+    pub first_member: u32,
+    /// Its number of members (geometries), at least 1.
+    pub members: u32,
+    /// The AND of its members' masks (a query sharing a bit with it admits every member, and
+    /// the walk skips the per-hit mask test).
+    pub mask: u32,
 }
 
-/// A geometry placed in the world: rays are carried into its object space by `transform`.
+/// A geometry in a tree: its primitives are the tree's `first_prim..first_prim + prims`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Member {
+    /// The geometry.
+    pub geom: u32,
+    /// Where its primitives start in the tree's primitive order.
+    pub first_prim: u32,
+}
+
+/// A tree placed in the world: rays are carried into its object space by `transform`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Instance {
     /// World → object.
     pub transform: Transform,
-    /// Index of the geometry it places.
-    pub geom: u32,
-    /// ANDed with the geometry's and the query's mask: no common bit, not visited.
+    /// Index of the tree it places.
+    pub tree: u32,
+    /// ANDed with the query's mask before the tree is entered, and with each geometry's.
     pub mask: u32,
 }
 
@@ -131,12 +159,16 @@ pub struct TreeParts<'a> {
 /// slice is `bytemuck::Pod`, so a scene is stored as bytes and read back without a copy).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SceneParts<'a> {
-    /// The triangle geometries' trees, one after another.
+    /// The triangle trees' slices, one tree after another.
     pub triangles: TreeParts<'a>,
-    /// The sphere geometries' trees, one after another.
+    /// The sphere trees' slices, one tree after another.
     pub spheres: TreeParts<'a>,
     /// The geometries.
     pub geometries: &'a [Geometry],
+    /// The bottom-level trees.
+    pub trees: &'a [SceneTree],
+    /// The trees' members, tree after tree.
+    pub members: &'a [Member],
     /// The instances.
     pub instances: &'a [Instance],
     /// The top-level tree over [`InstanceBox`]es (its ids are instance indices).
@@ -148,30 +180,37 @@ pub struct SceneParts<'a> {
 /// Why a set of slices is not a valid scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SceneError {
-    /// A geometry's kind is neither [`TRIANGLES`] nor [`SPHERES`].
+    /// A geometry's or a tree's kind is neither [`TRIANGLES`] nor [`SPHERES`].
     BadKind {
-        /// The geometry.
-        geom: usize,
+        /// The geometry or tree.
+        at: usize,
     },
-    /// A geometry's ranges do not follow the previous geometry of its kind, or lie outside its
-    /// kind's slices.
+    /// A tree's ranges do not follow the previous tree of its kind, or lie outside its kind's
+    /// slices.
     BadRange {
-        /// The geometry.
-        geom: usize,
+        /// The tree.
+        tree: usize,
     },
-    /// A geometry's tree is not valid.
-    Geometry {
-        /// The geometry.
-        geom: usize,
-        /// What is wrong with its tree.
+    /// A tree's members do not follow the previous tree's, name a geometry that does not exist
+    /// or of another kind, are not in increasing geometry order, do not add up to its
+    /// primitives, or its mask is not the AND of theirs.
+    BadMembers {
+        /// The tree.
+        tree: usize,
+    },
+    /// A tree is not valid.
+    Tree {
+        /// The tree.
+        tree: usize,
+        /// What is wrong with it.
         error: BvhError,
     },
-    /// Nodes or blocks of a kind that no geometry holds.
+    /// Nodes, blocks or members that no tree holds.
     Unused {
-        /// [`TRIANGLES`] or [`SPHERES`].
+        /// [`TRIANGLES`] or [`SPHERES`] (nodes or blocks), or 2 (members).
         kind: u32,
     },
-    /// An instance names a geometry that does not exist.
+    /// An instance names a tree that does not exist.
     BadInstance {
         /// The instance.
         inst: usize,
@@ -190,16 +229,20 @@ pub enum SceneError {
 impl core::fmt::Display for SceneError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
-            SceneError::BadKind { geom } => write!(f, "geometry {geom} has an unknown kind"),
-            SceneError::BadRange { geom } => {
-                write!(f, "geometry {geom}'s nodes or blocks are out of place")
+            SceneError::BadKind { at } => write!(f, "entry {at} has an unknown kind"),
+            SceneError::BadRange { tree } => {
+                write!(f, "tree {tree}'s nodes or blocks are out of place")
             }
-            SceneError::Geometry { geom, error } => write!(f, "geometry {geom}: {error}"),
+            SceneError::BadMembers { tree } => write!(f, "tree {tree}'s members are not valid"),
+            SceneError::Tree { tree, error } => write!(f, "tree {tree}: {error}"),
             SceneError::Unused { kind } => {
-                write!(f, "nodes or blocks of kind {kind} that no geometry holds")
+                write!(
+                    f,
+                    "nodes, blocks or members (kind {kind}) that no tree holds"
+                )
             }
             SceneError::BadInstance { inst } => {
-                write!(f, "instance {inst} names a geometry that does not exist")
+                write!(f, "instance {inst} names a tree that does not exist")
             }
             SceneError::Top(e) => write!(f, "top-level tree: {e}"),
             SceneError::BadUnbounded { at } => {
@@ -224,13 +267,13 @@ fn origin_slack(instances: &[Instance]) -> f32 {
         .fold(SLACK, f32::max)
 }
 
-/// One geometry's tree, by kind.
+/// One bottom-level tree, by kind, with its members.
 #[derive(Clone, Copy, Debug)]
-pub enum GeomRef<'a, T, S> {
-    /// A triangle mesh.
-    Triangles(Bvh8Ref<'a, T>),
-    /// A set of spheres.
-    Spheres(Bvh8Ref<'a, S>),
+pub enum TreeRef<'a, T, S> {
+    /// Over triangle geometries.
+    Triangles(Bvh8Ref<'a, T>, &'a [Member]),
+    /// Over sphere geometries.
+    Spheres(Bvh8Ref<'a, S>, &'a [Member]),
 }
 
 /// A scene as borrowed slices, validated: what the scene walks read. `Copy`, no allocation.
@@ -250,9 +293,9 @@ impl<T, S> Clone for SceneRef<'_, T, S> {
 }
 impl<T, S> Copy for SceneRef<'_, T, S> {}
 
-/// The tree slices of geometry `g` within its kind's slices (`words` rows per block), if its
-/// ranges lie inside them.
-fn sub_tree<'a>(parts: &TreeParts<'a>, g: &Geometry, words: usize) -> Option<TreeParts<'a>> {
+/// The slices of tree `g` within its kind's slices (`words` rows per block), if its ranges lie
+/// inside them.
+fn sub_tree<'a>(parts: &TreeParts<'a>, g: &SceneTree, words: usize) -> Option<TreeParts<'a>> {
     let (n0, n) = (g.first_node as usize, g.nodes as usize);
     let (b0, b) = (g.first_block as usize, g.blocks as usize);
     Some(TreeParts {
@@ -274,22 +317,32 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
     pub fn new(parts: SceneParts<'a>) -> Result<Self, SceneError> {
         if u32::try_from(parts.geometries.len()).is_err()
             || u32::try_from(parts.instances.len()).is_err()
+            || u32::try_from(parts.trees.len()).is_err()
         {
             return Err(SceneError::TooMany);
         }
+        if let Some(at) = parts
+            .geometries
+            .iter()
+            .position(|g| g.kind != TRIANGLES && g.kind != SPHERES)
+        {
+            return Err(SceneError::BadKind { at });
+        }
         let mut next = [(0u32, 0u32); 2];
-        for (i, g) in parts.geometries.iter().enumerate() {
+        let mut next_member = 0usize;
+        for (i, g) in parts.trees.iter().enumerate() {
             let (tree, words) = match g.kind {
                 TRIANGLES => (&parts.triangles, T::WORDS),
                 SPHERES => (&parts.spheres, S::WORDS),
-                _ => return Err(SceneError::BadKind { geom: i }),
+                _ => return Err(SceneError::BadKind { at: i }),
             };
             let at = &mut next[g.kind as usize];
+            let bad_range = SceneError::BadRange { tree: i };
             if (g.first_node, g.first_block) != *at {
-                return Err(SceneError::BadRange { geom: i });
+                return Err(bad_range);
             }
-            let sub = sub_tree(tree, g, words).ok_or(SceneError::BadRange { geom: i })?;
-            let err = |error| SceneError::Geometry { geom: i, error };
+            let sub = sub_tree(tree, g, words).ok_or(bad_range)?;
+            let err = |error| SceneError::Tree { tree: i, error };
             let prims = g.prims as usize;
             match g.kind {
                 TRIANGLES => Bvh8Ref::<T>::new(sub.nodes, sub.blocks, sub.ids, prims).map(drop),
@@ -300,7 +353,35 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
                 .first_node
                 .checked_add(g.nodes)
                 .zip(g.first_block.checked_add(g.blocks))
-                .ok_or(SceneError::BadRange { geom: i })?;
+                .ok_or(bad_range)?;
+            // Members: the next ones in the list, geometries of this kind in increasing order,
+            // their primitives one after another adding up to the tree's.
+            let bad_members = SceneError::BadMembers { tree: i };
+            let members = (g.first_member as usize == next_member)
+                .then(|| {
+                    parts
+                        .members
+                        .get(next_member..next_member.checked_add(g.members as usize)?)
+                })
+                .flatten()
+                .filter(|m| !m.is_empty())
+                .ok_or(bad_members)?;
+            next_member += members.len();
+            let mut sum = 0u64;
+            let mut last = None;
+            let mut mask = u32::MAX;
+            for m in members {
+                let geo = parts.geometries.get(m.geom as usize).ok_or(bad_members)?;
+                if geo.kind != g.kind || u64::from(m.first_prim) != sum || last >= Some(m.geom) {
+                    return Err(bad_members);
+                }
+                last = Some(m.geom);
+                sum += u64::from(geo.prims);
+                mask &= geo.mask;
+            }
+            if sum != u64::from(g.prims) || mask != g.mask {
+                return Err(bad_members);
+            }
         }
         for (kind, tree, words) in [
             (TRIANGLES, &parts.triangles, T::WORDS),
@@ -314,10 +395,13 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
                 return Err(SceneError::Unused { kind });
             }
         }
+        if next_member != parts.members.len() {
+            return Err(SceneError::Unused { kind: 2 });
+        }
         if let Some(i) = parts
             .instances
             .iter()
-            .position(|inst| inst.geom as usize >= parts.geometries.len())
+            .position(|inst| inst.tree as usize >= parts.trees.len())
         {
             return Err(SceneError::BadInstance { inst: i });
         }
@@ -369,6 +453,11 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
         self.parts.geometries
     }
 
+    /// The bottom-level trees.
+    pub fn trees(&self) -> &'a [SceneTree] {
+        self.parts.trees
+    }
+
     /// The instances.
     pub fn instances(&self) -> &'a [Instance] {
         self.parts.instances
@@ -389,18 +478,29 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
         self.origin_slack
     }
 
-    /// Geometry `g`'s tree (`None` when `g` is out of range).
+    /// Tree `t` with its members (`None` when `t` is out of range).
     #[inline]
-    pub fn geometry(&self, g: u32) -> Option<GeomRef<'a, T, S>> {
-        let geo = self.parts.geometries.get(g as usize)?;
-        Some(match geo.kind {
+    pub fn tree(&self, t: u32) -> Option<TreeRef<'a, T, S>> {
+        let tr = self.parts.trees.get(t as usize)?;
+        let members = self
+            .parts
+            .members
+            .get(tr.first_member as usize..)?
+            .get(..tr.members as usize)?;
+        Some(match tr.kind {
             TRIANGLES => {
-                let t = sub_tree(&self.parts.triangles, geo, T::WORDS)?;
-                GeomRef::Triangles(Bvh8Ref::trusted(t.nodes, t.blocks, t.ids, geo.prims))
+                let p = sub_tree(&self.parts.triangles, tr, T::WORDS)?;
+                TreeRef::Triangles(
+                    Bvh8Ref::trusted(p.nodes, p.blocks, p.ids, tr.prims),
+                    members,
+                )
             }
             _ => {
-                let t = sub_tree(&self.parts.spheres, geo, S::WORDS)?;
-                GeomRef::Spheres(Bvh8Ref::trusted(t.nodes, t.blocks, t.ids, geo.prims))
+                let p = sub_tree(&self.parts.spheres, tr, S::WORDS)?;
+                TreeRef::Spheres(
+                    Bvh8Ref::trusted(p.nodes, p.blocks, p.ids, tr.prims),
+                    members,
+                )
             }
         })
     }

@@ -13,7 +13,10 @@ pub(super) struct Best<S> {
     pub u: S,
     pub v: S,
     pub scale: S,
+    /// Index in the tree's primitive order (what the tie rule compares).
     pub id: u32,
+    /// Index in its geometry.
+    pub prim: u32,
     pub geom: u32,
     pub inst: u32,
 }
@@ -28,7 +31,7 @@ impl<S: Scalar> Best<S> {
             t: self.t.to_f32(),
             u: (self.u / self.scale).to_f32() + 0.0,
             v: (self.v / self.scale).to_f32() + 0.0,
-            prim: self.id,
+            prim: self.prim,
             geom: self.geom,
             inst: self.inst,
         }
@@ -87,6 +90,7 @@ pub(super) struct PacketBest<L: Lanes> {
     pub v: L,
     pub scale: L,
     pub id: L::Index,
+    pub prim: L::Index,
     pub geom: L::Index,
     pub inst: L::Index,
     /// Per lane: `t_max`, or once there is a hit, its `t` loosened (as [`bound`]).
@@ -106,6 +110,7 @@ impl<L: Lanes> PacketBest<L> {
             v: L::zero(),
             scale: L::splat(1.0),
             id: L::splat_index(0),
+            prim: L::splat_index(0),
             geom: L::splat_index(0),
             inst: L::splat_index(0),
             cull: t_max,
@@ -122,6 +127,7 @@ impl<L: Lanes> PacketBest<L> {
             v: self.v.lane(i),
             scale: self.scale.lane(i),
             id: L::index_lane(self.id, i),
+            prim: L::index_lane(self.prim, i),
             geom: L::index_lane(self.geom, i),
             inst: L::index_lane(self.inst, i),
         })
@@ -136,6 +142,7 @@ impl<L: Lanes> PacketBest<L> {
         self.v = L::select(m, L::splat_scalar(b.v), self.v);
         self.scale = L::select(m, L::splat_scalar(b.scale), self.scale);
         self.id = L::select_index(m, L::splat_index(b.id), self.id);
+        self.prim = L::select_index(m, L::splat_index(b.prim), self.prim);
         self.geom = L::select_index(m, L::splat_index(b.geom), self.geom);
         self.inst = L::select_index(m, L::splat_index(b.inst), self.inst);
         self.cull = L::select(m, octoray_core::query::loosen(self.t, t_max), self.cull);

@@ -5,7 +5,7 @@ use super::epilog::{Best, PacketBest};
 use super::slab::BoxRay;
 use super::walk::{
     closest_slice, occluded_slice, packet_result, packet_walk, run_packet, run_single,
-    trace_single, Leaf,
+    trace_single, Leaf, Members, UNPLACED,
 };
 use arrayvec::ArrayVec;
 use octoray_core::hit::{AcceptAll, Hit, HitFilter};
@@ -13,7 +13,7 @@ use octoray_core::kernels::Kernel;
 use octoray_core::lanes::{LaneMask, Lanes, MAX_LANES};
 use octoray_core::prim::{Ray, RayLanes};
 use octoray_core::query::ClosestHit;
-use octoray_core::scene::{GeomRef, SceneRef};
+use octoray_core::scene::{Instance, SceneRef, TreeRef};
 use wide::f32x8;
 
 /// The top level's leaves: instances of `scene` visited under the query's `mask`, their
@@ -24,12 +24,53 @@ struct Instances<'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> {
 }
 
 impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'_, L, KT, KS> {
-    /// The instance's geometry and the ray's interval, when its mask admits the query.
+    /// The instance and its tree, with what the leaves need to name each hit's geometry, when
+    /// the masks admit the query: the instance's (and a single geometry's) before the tree is
+    /// entered; in a tree of several geometries, each geometry's at its hits.
     #[inline(always)]
-    fn enter(&self, inst: u32) -> Option<(&octoray_core::scene::Instance, u32)> {
+    #[allow(clippy::type_complexity)]
+    fn enter(
+        &self,
+        inst: u32,
+    ) -> Option<(
+        &Instance,
+        TreeRef<'_, KT::Prim, KS::Prim>,
+        (u32, u32, Members<'_>),
+    )> {
         let i = self.scene.instances().get(inst as usize)?;
-        let g = self.scene.geometries().get(i.geom as usize)?;
-        (i.mask & g.mask & self.mask != 0).then_some((i, i.geom))
+        let mask = i.mask & self.mask;
+        let tree = self.scene.tree(i.tree)?;
+        let members = match &tree {
+            TreeRef::Triangles(_, m) | TreeRef::Spheres(_, m) => *m,
+        };
+        let geoms = self.scene.geometries();
+        let place = if let [one] = members {
+            let g = geoms.get(one.geom as usize)?;
+            if g.mask & mask == 0 {
+                return None;
+            }
+            (one.geom, inst, Members::ONE)
+        } else {
+            if mask == 0 {
+                return None;
+            }
+            let all_admitted = self
+                .scene
+                .trees()
+                .get(i.tree as usize)
+                .is_some_and(|t| t.mask & mask != 0);
+            (
+                0,
+                inst,
+                Members {
+                    members,
+                    geoms,
+                    mask,
+                    all_admitted,
+                },
+            )
+        };
+        Some((i, tree, place))
     }
 
     /// One world ray through instance `inst`.
@@ -42,18 +83,17 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'_, L, KT, KS> {
         filter: &mut F,
         ray_id: u32,
     ) -> bool {
-        let Some((i, geom)) = self.enter(inst) else {
+        let Some((i, tree, place)) = self.enter(inst) else {
             return false;
         };
         let ray = i.transform.apply(world);
-        match self.scene.geometry(geom) {
-            Some(GeomRef::Triangles(b)) => {
-                run_single::<L, KT, F, ANY>(b, (geom, inst), &ray, best, filter, ray_id)
+        match tree {
+            TreeRef::Triangles(b, _) => {
+                run_single::<L, KT, F, ANY>(b, place, &ray, best, filter, ray_id)
             }
-            Some(GeomRef::Spheres(b)) => {
-                run_single::<L, KS, F, ANY>(b, (geom, inst), &ray, best, filter, ray_id)
+            TreeRef::Spheres(b, _) => {
+                run_single::<L, KS, F, ANY>(b, place, &ray, best, filter, ray_id)
             }
-            None => false,
         }
     }
 
@@ -68,23 +108,31 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'_, L, KT, KS> {
         filter: &mut F,
         ray_base: u32,
     ) {
-        let Some((i, geom)) = self.enter(inst) else {
+        let Some((i, tree, place)) = self.enter(inst) else {
             return;
         };
-        // Each lane carried as its single ray is (the same bits).
-        let lanes: ArrayVec<Ray, MAX_LANES> = (0..L::LANES)
-            .map(|k| i.transform.apply(&world.ray(k)))
-            .collect();
-        let mut rays = RayLanes::<L>::load(&lanes);
-        rays.active = live;
-        match self.scene.geometry(geom) {
-            Some(GeomRef::Triangles(b)) => {
-                run_packet::<L, KT, F, ANY>(b, (geom, inst), &rays, best, filter, ray_base)
+        // Each lane carried as its single ray is (the same bits; the identity keeps them).
+        let rays = if i.transform.is_identity() {
+            RayLanes {
+                active: live,
+                ..*world
             }
-            Some(GeomRef::Spheres(b)) => {
-                run_packet::<L, KS, F, ANY>(b, (geom, inst), &rays, best, filter, ray_base)
+        } else {
+            let lanes: ArrayVec<Ray, MAX_LANES> = (0..L::LANES)
+                .map(|k| i.transform.apply(&world.ray(k)))
+                .collect();
+            RayLanes {
+                active: live,
+                ..RayLanes::<L>::load(&lanes)
             }
-            None => {}
+        };
+        match tree {
+            TreeRef::Triangles(b, _) => {
+                run_packet::<L, KT, F, ANY>(b, place, &rays, best, filter, ray_base)
+            }
+            TreeRef::Spheres(b, _) => {
+                run_packet::<L, KS, F, ANY>(b, place, &rays, best, filter, ray_base)
+            }
         }
     }
 }
@@ -137,6 +185,64 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Leaf<L> for Instances<'_, L, KT, KS
     }
 }
 
+/// Geometry and primitive of a hit of instance `inst` at its tree's primitive `id`.
+fn place_hit<T, S>(scene: &SceneRef<'_, T, S>, inst: u32, id: u32) -> (u32, u32)
+where
+    T: octoray_core::prim::Primitive,
+    S: octoray_core::prim::Primitive,
+{
+    let members = scene
+        .instances()
+        .get(inst as usize)
+        .and_then(|i| scene.tree(i.tree))
+        .map(|t| match t {
+            TreeRef::Triangles(_, m) | TreeRef::Spheres(_, m) => m,
+        })
+        .unwrap_or(&[]);
+    let m = Members {
+        members,
+        geoms: scene.geometries(),
+        mask: u32::MAX,
+        all_admitted: true,
+    };
+    m.place(id).unwrap_or((0, id))
+}
+
+/// The best hit with its geometry found, if the walk left that for later.
+fn placed<T, S, X: octoray_core::lanes::Scalar>(
+    scene: &SceneRef<'_, T, S>,
+    mut b: Best<X>,
+) -> Best<X>
+where
+    T: octoray_core::prim::Primitive,
+    S: octoray_core::prim::Primitive,
+{
+    if b.geom == UNPLACED {
+        (b.geom, b.prim) = place_hit(scene, b.inst, b.id);
+    }
+    b
+}
+
+/// The packet's best hits with their geometries found, where the walk left that for later.
+fn placed_packet<L: Lanes, T, S>(scene: &SceneRef<'_, T, S>, mut b: PacketBest<L>) -> PacketBest<L>
+where
+    T: octoray_core::prim::Primitive,
+    S: octoray_core::prim::Primitive,
+{
+    let mut m = b.mask.bitmask();
+    while m != 0 {
+        let i = m.trailing_zeros() as usize;
+        m &= m - 1;
+        if L::index_lane(b.geom, i) == UNPLACED {
+            let (g, p) = place_hit(scene, L::index_lane(b.inst, i), L::index_lane(b.id, i));
+            let lane = L::mask_from_bits(1 << i);
+            b.geom = L::select_index(lane, L::splat_index(g), b.geom);
+            b.prim = L::select_index(lane, L::splat_index(p), b.prim);
+        }
+    }
+    b
+}
+
 /// One world ray through the scene.
 fn scene_single<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: bool>(
     scene: SceneRef<'_, KT::Prim, KS::Prim>,
@@ -145,8 +251,26 @@ fn scene_single<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY:
     filter: &mut F,
     ray_id: u32,
 ) -> (bool, Option<Best<L::Scalar>>) {
+    let (any, best) = walk_single::<L, KT, KS, F, ANY>(scene, ray, mask, filter, ray_id);
+    (any, best.map(|b| placed(&scene, b)))
+}
+
+/// [`scene_single`]'s walk (geometries possibly left to find).
+fn walk_single<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: bool>(
+    scene: SceneRef<'_, KT::Prim, KS::Prim>,
+    ray: &Ray,
+    mask: u32,
+    filter: &mut F,
+    ray_id: u32,
+) -> (bool, Option<Best<L::Scalar>>) {
     let mut best = None;
     let leaf = Instances::<L, KT, KS> { scene, mask };
+    if scene.instances().len() == 1 {
+        // One instance (a renderer's static world): no top level to walk; its tree's root test
+        // is the only box test it needs.
+        let any = leaf.single_instance::<F, ANY>(0, ray, &mut best, filter, ray_id);
+        return (any, best);
+    }
     let rl = RayLanes::<L>::broadcast(ray);
     let br = BoxRay::with_slack(&RayLanes::<f32x8>::broadcast(ray), scene.origin_slack());
     // A ray that is not valid in the world is not valid in any object space (a zero direction
@@ -187,8 +311,29 @@ fn scene_packet<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY:
     filter: &mut F,
     ray_base: u32,
 ) -> PacketBest<L> {
+    let best = walk_packet::<L, KT, KS, F, ANY>(scene, rays, mask, filter, ray_base);
+    if ANY {
+        best
+    } else {
+        placed_packet(&scene, best)
+    }
+}
+
+/// [`scene_packet`]'s walk (geometries possibly left to find).
+fn walk_packet<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: bool>(
+    scene: SceneRef<'_, KT::Prim, KS::Prim>,
+    rays: &RayLanes<L>,
+    mask: u32,
+    filter: &mut F,
+    ray_base: u32,
+) -> PacketBest<L> {
     let mut best = PacketBest::new(rays.t_max);
     let leaf = Instances::<L, KT, KS> { scene, mask };
+    if scene.instances().len() == 1 {
+        // As in `scene_single`.
+        leaf.packet_instance::<F, ANY>(0, rays, rays.active, &mut best, filter, ray_base);
+        return best;
+    }
     let br = BoxRay::with_slack(rays, scene.origin_slack());
     if br.valid.none() {
         return best;

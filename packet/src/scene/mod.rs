@@ -58,8 +58,8 @@ pub use instances::Trace;
 pub use octoray_core::scene::Scene;
 #[doc(inline)]
 pub use octoray_core::scene::{
-    GeomRef, Geometry, Instance, InstanceBox, SceneError, SceneParts, SceneRef, Transform,
-    TreeParts, MAX_CONDITION, SPHERES, TRIANGLES,
+    Geometry, Instance, InstanceBox, Member, SceneError, SceneParts, SceneRef, SceneTree,
+    Transform, TreeParts, TreeRef, MAX_CONDITION, SPHERES, TRIANGLES,
 };
 
 pub use walk::{

@@ -10,6 +10,7 @@ use octoray_core::kernels::Kernel;
 use octoray_core::lanes::{LaneMask, Lanes, Scalar, V3};
 use octoray_core::prim::{BlockLane, BlockRows, Ray, RayLanes, BLOCK};
 use octoray_core::query::ClosestHit;
+use octoray_core::scene::{Geometry, Member};
 use wide::f32x8;
 
 /// What a walk does with the slots `first..first + count` of a leaf.
@@ -47,12 +48,68 @@ pub(super) trait Leaf<L: Lanes> {
     );
 }
 
-/// A geometry's leaves: primitives tested with kernel `K`, hits reported as geometry `geom`
-/// of instance `inst`.
+/// A tree's leaves: primitives tested with kernel `K`, hits reported for instance `inst` (and
+/// geometry `geom` when the tree holds one; a tree of several geometries finds each hit's in
+/// `members` and counts it only where that geometry's mask shares a bit with `mask`).
 pub(super) struct Prims<'a, L: Lanes, K: Kernel<L>> {
     pub bvh: Bvh8Ref<'a, K::Prim>,
     pub geom: u32,
     pub inst: u32,
+    pub members: Members<'a>,
+}
+
+/// The geometries of a tree of several (empty `members`: one, reported as `Prims::geom`).
+#[derive(Clone, Copy)]
+pub(super) struct Members<'a> {
+    pub members: &'a [Member],
+    pub geoms: &'a [Geometry],
+    /// The query's mask and the instance's.
+    pub mask: u32,
+    /// Every member admitted by `mask`: without a filter, a hit's geometry is found only once
+    /// the walk is done ([`UNPLACED`], then [`Members::place`]).
+    pub all_admitted: bool,
+}
+
+/// `Best::geom` of a hit whose geometry is found after the walk.
+pub(super) const UNPLACED: u32 = u32::MAX;
+
+impl Members<'_> {
+    /// One geometry: nothing to find.
+    pub const ONE: Self = Members {
+        members: &[],
+        geoms: &[],
+        mask: u32::MAX,
+        all_admitted: true,
+    };
+
+    /// Geometry and primitive of the tree's primitive `id`, or `None` where the geometry's mask
+    /// keeps its hits out.
+    #[inline]
+    pub fn place(&self, id: u32) -> Option<(u32, u32)> {
+        // Members start at 0 in increasing order (validated): the last one starting at or
+        // before `id`.
+        let k = self.members.partition_point(|x| x.first_prim <= id).max(1) - 1;
+        let member = self.members.get(k)?;
+        let g = self.geoms.get(member.geom as usize)?;
+        (g.mask & self.mask != 0).then(|| (member.geom, id.wrapping_sub(member.first_prim)))
+    }
+}
+
+impl<L: Lanes, K: Kernel<L>> Prims<'_, L, K> {
+    /// Geometry and primitive of the tree's primitive `id` for a walk with filter `F`, or
+    /// `None` where the geometry's mask keeps its hits out; `(UNPLACED, id)` when that is left
+    /// until the walk is done (no filter, every member admitted).
+    #[inline(always)]
+    fn place<F: HitFilter>(&self, id: u32) -> Option<(u32, u32)> {
+        let m = &self.members;
+        if m.members.is_empty() {
+            return Some((self.geom, id));
+        }
+        if F::ACCEPTS_ALL && m.all_admitted {
+            return Some((UNPLACED, id));
+        }
+        m.place(id)
+    }
 }
 
 impl<L: Lanes, K: Kernel<L>> Leaf<L> for Prims<'_, L, K> {
@@ -91,19 +148,24 @@ impl<L: Lanes, K: Kernel<L>> Leaf<L> for Prims<'_, L, K> {
                 let rows = BlockRows::new::<K::Prim>(block, sub);
                 let h = K::intersect_words(&ray, pre, &rows);
                 let mut bits = h.mask.bitmask();
-                if ANY && F::ACCEPTS_ALL && bits != 0 {
+                if ANY && F::ACCEPTS_ALL && bits != 0 && self.members.all_admitted {
                     return true;
                 }
                 while bits != 0 {
                     let i = bits.trailing_zeros() as usize;
                     bits &= bits - 1;
+                    let id = bvh.ids()[at + sub + i];
+                    let Some((geom, prim)) = self.place::<F>(id) else {
+                        continue;
+                    };
                     let hit = Best {
                         t: h.t.lane(i),
                         u: h.u.lane(i),
                         v: h.v.lane(i),
                         scale: h.scale.lane(i),
-                        id: bvh.ids()[at + sub + i],
-                        geom: self.geom,
+                        id,
+                        prim,
+                        geom,
                         inst: self.inst,
                     };
                     if (ANY || better(hit.t, hit.inst, hit.id, best))
@@ -147,6 +209,9 @@ impl<L: Lanes, K: Kernel<L>> Leaf<L> for Prims<'_, L, K> {
                 continue;
             }
             let id = bvh.ids()[k];
+            let Some((geom, local)) = self.place::<F>(id) else {
+                continue;
+            };
             let mut m = h.mask & (!best.mask | h.t.lt(best.t));
             let tie = h.mask & best.mask & !h.t.ne(best.t);
             if tie.any() {
@@ -172,7 +237,8 @@ impl<L: Lanes, K: Kernel<L>> Leaf<L> for Prims<'_, L, K> {
                         v: h.v.lane(i),
                         scale: h.scale.lane(i),
                         id,
-                        geom: self.geom,
+                        prim: local,
+                        geom,
                         inst: self.inst,
                     };
                     if accepts(filter, &hit, ray_base + i as u32) {
@@ -187,7 +253,8 @@ impl<L: Lanes, K: Kernel<L>> Leaf<L> for Prims<'_, L, K> {
             best.v = L::select(m, h.v, best.v);
             best.scale = L::select(m, h.scale, best.scale);
             best.id = L::select_index(m, L::splat_index(id), best.id);
-            best.geom = L::select_index(m, L::splat_index(self.geom), best.geom);
+            best.prim = L::select_index(m, L::splat_index(local), best.prim);
+            best.geom = L::select_index(m, L::splat_index(geom), best.geom);
             best.inst = L::select_index(m, L::splat_index(self.inst), best.inst);
             if ANY {
                 ray.active = ray.active & !best.mask;
@@ -406,7 +473,7 @@ fn exchange(keys: &mut [f32; 4], slots: &mut [u8; 4], a: usize, b: usize) {
 #[inline(always)]
 pub(super) fn run_single<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
     bvh: Bvh8Ref<'_, K::Prim>,
-    (geom, inst): (u32, u32),
+    (geom, inst, members): (u32, u32, Members<'_>),
     ray: &Ray,
     best: &mut Option<Best<L::Scalar>>,
     filter: &mut F,
@@ -420,7 +487,12 @@ pub(super) fn run_single<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
     if br.valid.none() {
         return false;
     }
-    let leaf = Prims::<L, K> { bvh, geom, inst };
+    let leaf = Prims::<L, K> {
+        bvh,
+        geom,
+        inst,
+        members,
+    };
     trace_single::<L, _, F, ANY>(
         bvh.nodes(),
         &leaf,
@@ -442,7 +514,7 @@ fn single<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
     ray_id: u32,
 ) -> (bool, Option<Best<L::Scalar>>) {
     let mut best = None;
-    let any = run_single::<L, K, F, ANY>(bvh, (0, 0), ray, &mut best, filter, ray_id);
+    let any = run_single::<L, K, F, ANY>(bvh, (0, 0, Members::ONE), ray, &mut best, filter, ray_id);
     (any, best)
 }
 
@@ -648,7 +720,7 @@ pub(super) fn packet_walk<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
 #[inline(always)]
 pub(super) fn run_packet<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
     bvh: Bvh8Ref<'_, K::Prim>,
-    (geom, inst): (u32, u32),
+    (geom, inst, members): (u32, u32, Members<'_>),
     rays: &RayLanes<L>,
     best: &mut PacketBest<L>,
     filter: &mut F,
@@ -661,7 +733,12 @@ pub(super) fn run_packet<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
     if br.valid.none() {
         return;
     }
-    let leaf = Prims::<L, K> { bvh, geom, inst };
+    let leaf = Prims::<L, K> {
+        bvh,
+        geom,
+        inst,
+        members,
+    };
     packet_walk::<L, _, F, ANY>(
         bvh.nodes(),
         &leaf,
@@ -682,7 +759,7 @@ fn packet<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
     ray_base: u32,
 ) -> PacketBest<L> {
     let mut best = PacketBest::new(rays.t_max);
-    run_packet::<L, K, F, ANY>(bvh, (0, 0), rays, &mut best, filter, ray_base);
+    run_packet::<L, K, F, ANY>(bvh, (0, 0, Members::ONE), rays, &mut best, filter, ray_base);
     best
 }
 
@@ -694,7 +771,7 @@ pub(super) fn packet_result<L: Lanes>(b: &PacketBest<L>) -> ClosestHit<L> {
         t: b.t,
         u,
         v,
-        prim: b.id,
+        prim: b.prim,
         geom: b.geom,
         inst: b.inst,
     }
