@@ -721,6 +721,228 @@ fn run_tree(rng: &mut Rng) {
     }
 }
 
+/// Scenes of hostile geometry: triangle and sphere geometries from hostile cases, instances with
+/// hostile transforms (NaN, ±inf, huge, subnormal and zero entries, singular and raw matrices),
+/// masks, a filter, a refit to hostile vertices: every scene query (single, packet, slice,
+/// filtered) equals brute force over the instanced primitives with finite hits in range; the
+/// scene's slices, corrupted, are rejected or traced without a panic, the work bounded and every
+/// index in range.
+fn run_scene(rng: &mut Rng) {
+    use octoray::scene::{Scene, SceneParts, SceneRef, Trace, Transform, TreeParts};
+    let n_geoms = 1 + rng.below(4) as usize;
+    let mut geoms: Vec<(bool, Vec<VertexTriangle>, Vec<PackedSphere>)> = Vec::new();
+    let mut scene = Scene::<VertexTriangle, PackedSphere>::new();
+    for _ in 0..n_geoms {
+        let n = 1 + rng.below(12) as usize;
+        if rng.below(3) == 0 {
+            let sp: Vec<PackedSphere> = (0..n)
+                .map(|_| {
+                    let (r, v) = case(rng);
+                    PackedSphere::new(v[0], (v[1] - r.origin).length() * rng.range(0.0, 0.3))
+                })
+                .collect();
+            let g = scene.add_spheres(&sp).unwrap();
+            scene.set_geometry_mask(g, if rng.below(4) == 0 { 2 } else { !0 });
+            geoms.push((true, vec![], sp));
+        } else {
+            let tris: Vec<VertexTriangle> = (0..n)
+                .map(|_| {
+                    let v = case(rng).1;
+                    VertexTriangle::new(v[0], v[1], v[2])
+                })
+                .collect();
+            let g = scene.add_triangles(&tris).unwrap();
+            scene.set_geometry_mask(g, if rng.below(4) == 0 { 2 } else { !0 });
+            geoms.push((false, tris, vec![]));
+        }
+    }
+    let mut places: Vec<(Vec<u32>, Transform, u32)> = Vec::new();
+    for _ in 0..1 + rng.below(10) {
+        let first = rng.below(n_geoms as u64) as usize;
+        let set: Vec<u32> = if rng.below(3) == 0 {
+            (0..n_geoms)
+                .filter(|&g| geoms[g].0 == geoms[first].0)
+                .map(|g| g as u32)
+                .collect()
+        } else {
+            vec![first as u32]
+        };
+        let mut t = Transform::IDENTITY;
+        match rng.below(4) {
+            0 => {}
+            1 => {
+                for row in &mut t.rows {
+                    for x in row.iter_mut() {
+                        *x = value(rng);
+                    }
+                }
+            }
+            _ => {
+                for row in &mut t.rows {
+                    for x in row.iter_mut() {
+                        *x = if rng.below(8) == 0 {
+                            value(rng)
+                        } else {
+                            rng.range(-2.0, 2.0)
+                        };
+                    }
+                }
+            }
+        }
+        let mask = if rng.below(4) == 0 { 1 } else { !0 };
+        scene.add_instance(&set, t, mask);
+        places.push((set, t, mask));
+    }
+    // Now and then, a refit to hostile vertices first.
+    if rng.below(3) == 0 {
+        for (g, geo) in geoms.iter_mut().enumerate() {
+            if !geo.0 {
+                scene.commit();
+                let old = geo.1.clone();
+                for t in geo.1.iter_mut() {
+                    let v = case(rng).1;
+                    *t = VertexTriangle::new(v[0], v[1], v[2]);
+                }
+                // Left-out primitives that became finite are an error, and then nothing moved.
+                if scene.refit_triangles(g as u32, &geo.1).is_err() {
+                    geo.1 = old;
+                }
+            }
+        }
+    }
+    scene.commit();
+    let r = scene.as_ref();
+    let rays: Vec<Ray> = (0..16).map(|_| case(rng).0).collect();
+    let mask = if rng.below(3) == 0 { 1 } else { !0 };
+    let brute = |ray: &Ray, filter: &dyn Fn(u32, u32, &Hit) -> bool| {
+        let mut best: Option<Hit> = None;
+        for (i, (set, t, m)) in places.iter().enumerate() {
+            let obj = RayLanes::<f32>::single(&t.apply(ray));
+            for &g in set {
+                let geo = &geoms[g as usize];
+                let gm = scene.geometries()[g as usize].mask;
+                if m & gm & mask == 0 {
+                    continue;
+                }
+                let n = if geo.0 { geo.2.len() } else { geo.1.len() };
+                for k in 0..n {
+                    let h = if geo.0 {
+                        octoray::intersect::<f32, StableSphere>(&obj.ray(0), &geo.2[k])
+                    } else {
+                        octoray::intersect::<f32, Watertight>(&obj.ray(0), &geo.1[k])
+                    };
+                    let Some(mut h) = h else { continue };
+                    (h.prim, h.geom, h.inst) = (k as u32, g, i as u32);
+                    if filter(g, i as u32, &h) && best.is_none_or(|b| h.t < b.t) {
+                        best = Some(h);
+                    }
+                }
+            }
+        }
+        best
+    };
+    let odd = |h: &Hit| (h.prim + h.inst) % 2 == 0;
+    let mut out = vec![None; rays.len()];
+    r.closest::<f32x8, Watertight, StableSphere>(&rays, mask, &mut out);
+    for (k, ray) in rays.iter().enumerate() {
+        let want = brute(ray, &|_, _, _| true);
+        let single = r.closest_ray::<f32x8, Watertight, StableSphere>(ray, mask);
+        assert_eq!(single, want, "scene single, {ray:?}, {places:?}");
+        assert_eq!(out[k], want, "scene slice, {ray:?}");
+        assert_eq!(
+            r.occluded_ray::<f32x8, Watertight, StableSphere>(ray, mask),
+            want.is_some(),
+            "scene occluded, {ray:?}"
+        );
+        if let Some(h) = single {
+            check_hit(&h, ray, "scene");
+        }
+        let fw = brute(ray, &|_, _, h| odd(h));
+        let got = r.closest_ray_with::<f32x8, Watertight, StableSphere, _>(
+            ray,
+            mask,
+            &mut |c: &octoray::hit::Candidate| (c.prim + c.inst) % 2 == 0,
+        );
+        assert_eq!(got, fw, "scene filtered, {ray:?}");
+    }
+    let p = RayLanes::<f32x16>::load(&rays);
+    let packet = r.closest_packet::<f32x16, Watertight, StableSphere>(&p, mask);
+    for (i, ray) in rays.iter().enumerate() {
+        assert_eq!(packet.lane(i), out[i], "scene packet, {ray:?}");
+    }
+    // The slices, corrupted: rejected, or traced within bounds.
+    let parts = scene.parts();
+    let copy = |t: &TreeParts<'_>| (t.nodes.to_vec(), t.blocks.to_vec(), t.ids.to_vec());
+    let (mut tri, mut sph, mut top) = (
+        copy(&parts.triangles),
+        copy(&parts.spheres),
+        copy(&parts.top),
+    );
+    let (mut g, mut tr, mut mb, mut ins, mut unb) = (
+        parts.geometries.to_vec(),
+        parts.trees.to_vec(),
+        parts.members.to_vec(),
+        parts.instances.to_vec(),
+        parts.unbounded.to_vec(),
+    );
+    {
+        let mut words: Vec<&mut u32> = Vec::new();
+        for t in [&mut tri, &mut sph, &mut top] {
+            words.extend(bytemuck::cast_slice_mut::<_, u32>(&mut t.0[..]).iter_mut());
+            words.extend(t.2.iter_mut());
+        }
+        words.extend(bytemuck::cast_slice_mut::<_, u32>(&mut g[..]).iter_mut());
+        words.extend(bytemuck::cast_slice_mut::<_, u32>(&mut tr[..]).iter_mut());
+        words.extend(bytemuck::cast_slice_mut::<_, u32>(&mut mb[..]).iter_mut());
+        words.extend(bytemuck::cast_slice_mut::<_, u32>(&mut ins[..]).iter_mut());
+        words.extend(unb.iter_mut());
+        for _ in 0..rng.below(4) {
+            let k = rng.below(words.len() as u64) as usize;
+            *words[k] = match rng.below(3) {
+                0 => rng.next_u64() as u32,
+                1 => *words[k] ^ (1 << rng.below(32)),
+                _ => u32::MAX,
+            };
+        }
+    }
+    type Owned = (Vec<octoray::bvh::Bvh8Node>, Vec<[f32; 8]>, Vec<u32>);
+    fn tp(t: &Owned) -> TreeParts<'_> {
+        TreeParts {
+            nodes: &t.0,
+            blocks: &t.1,
+            ids: &t.2,
+        }
+    }
+    let bad = SceneParts {
+        triangles: tp(&tri),
+        spheres: tp(&sph),
+        geometries: &g,
+        trees: &tr,
+        members: &mb,
+        instances: &ins,
+        top: tp(&top),
+        unbounded: &unb,
+    };
+    if let Ok(b) = SceneRef::<VertexTriangle, PackedSphere>::new(bad) {
+        let blocks: usize = tri.2.len() / 8;
+        for ray in &rays[..4] {
+            testkit::trees::take_leaf_tests();
+            if let Some(h) = b.closest_ray::<f32x8, testkit::trees::Counting, StableSphere>(ray, !0)
+            {
+                check_hit(&h, ray, "corrupted scene");
+                assert!((h.geom as usize) < g.len() && (h.inst as usize) < ins.len());
+            }
+            let tests = testkit::trees::take_leaf_tests();
+            assert!(
+                tests <= (ins.len() + unb.len()) * blocks.max(1),
+                "{tests} leaf tests over {blocks} blocks and {} instances",
+                ins.len()
+            );
+        }
+        let _ = b.closest_packet::<f32x8, Watertight, StableSphere>(&RayLanes::load(&rays), !0);
+    }
+}
+
 fn closest_ray_counting(bvh: octoray::bvh::Bvh8Ref<'_, VertexTriangle>, r: &Ray) -> Option<Hit> {
     bvh_closest::<f32x8, testkit::trees::Counting>(bvh, r)
 }
@@ -763,6 +985,7 @@ fn fuzz(seed: u64, n: usize) -> (usize, usize) {
         }
         if i % 64 == 0 {
             run_tree(&mut rng);
+            run_scene(&mut rng);
         }
     }
     (n, bvh_rays)

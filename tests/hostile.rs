@@ -817,3 +817,37 @@ fn a_hand_built_sphere_with_a_zero_or_subnormal_radius_sq_is_missed_by_brute_for
     assert!(brute.is_some());
     assert_eq!(bvh.map(|h| h.t), brute);
 }
+
+/// A finite sphere or packed triangle whose box reaches past f32's range (centre at
+/// `−f32::MAX`; `v0 + e1` overflowing) is still in the tree: found by fuzzing a scene whose
+/// instance carried a ray to `x = −f32::MAX`, where brute force hit a sphere the tree had left
+/// out (its bounds overflowed to −inf and were taken for a non-finite primitive).
+#[test]
+fn primitives_reaching_past_f32_range_stay_in_the_tree() {
+    use octoray::bvh::Bvh8;
+    use octoray::kernels::StableSphere;
+    use octoray::prim::{PackedSphere, Primitive};
+    use octoray::scene::closest_ray;
+    let s = PackedSphere::new(Vec3::new(-f32::MAX, 230_397.5, 5_327_692.5), 7.0e6);
+    assert!(s.bounds().is_some());
+    let ray = Ray::with_range(
+        Vec3::new(-f32::MAX, 6.081_669_4e16, -0.001_379_594_4),
+        Vec3::new(-0.000_404_012_48, -7.371_917e16, 2.733_531e-13),
+        0.811_481_5,
+        1.574_174_4,
+    );
+    let brute = closest::<f32, StableSphere>(&RayLanes::single(&ray), &[s]).lane(0);
+    assert!(brute.is_some(), "the kernel hits it");
+    let tree = Bvh8::build(&[s]);
+    assert_eq!(
+        closest_ray::<f32x8, StableSphere>(tree.as_ref(), &ray),
+        brute
+    );
+    let t = PackedTriangle::from_edges(
+        [f32::MAX * 0.75; 3],
+        [f32::MAX * 0.5, 0.0, 0.0],
+        [0.0, f32::MAX * 0.5, 0.0],
+    );
+    let b = t.bounds().expect("a finite packed triangle has bounds");
+    assert_eq!(b.hi[0], f32::MAX);
+}

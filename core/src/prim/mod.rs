@@ -69,6 +69,20 @@ impl Aabb {
         core::array::from_fn(|k| self.lo[k] * 0.5 + self.hi[k] * 0.5)
     }
 
+    /// The box with infinite bounds moved to `±f32::MAX`: the bounds of a finite primitive that
+    /// reaches past f32's range (a sphere at `f32::MAX`, a packed triangle whose `v0 + e1`
+    /// overflows). The builder's slack turns such a bound back into an infinity in every node
+    /// above it, so the tree still holds every hit; the box stays finite for the builder's
+    /// centroids.
+    #[inline]
+    pub fn clamped(self) -> Self {
+        let c = |x: f32| x.clamp(-f32::MAX, f32::MAX);
+        Self {
+            lo: self.lo.map(c),
+            hi: self.hi.map(c),
+        }
+    }
+
     /// True when `lo ≤ hi` on every axis and every coordinate is finite.
     #[inline]
     pub fn is_finite(&self) -> bool {

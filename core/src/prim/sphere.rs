@@ -98,6 +98,7 @@ impl Primitive for PackedSphere {
             lo: core::array::from_fn(|k| down(self.center[k] - r)),
             hi: core::array::from_fn(|k| up(self.center[k] + r)),
         };
-        b.is_finite().then_some(b)
+        // A finite sphere that reaches past f32's range is still hit: its box is clamped.
+        Some(b.clamped())
     }
 }

@@ -128,14 +128,16 @@ impl Primitive for PackedTriangle {
         }
         // v0 + e1 and v0 + e2 are exact in the kernels' algebra; their rounded sums are within
         // half an ulp, so one ulp outward holds the exact points.
-        let a: [f32; 3] = core::array::from_fn(|k| v0[k] + e1[k]);
-        let b: [f32; 3] = core::array::from_fn(|k| v0[k] + e2[k]);
+        // A sum that overflows (finite edges reaching past f32's range) is clamped: the box
+        // then reaches f32::MAX, and the builder's slack makes its nodes infinite there.
+        let a: [f32; 3] = core::array::from_fn(|k| (v0[k] + e1[k]).clamp(-f32::MAX, f32::MAX));
+        let b: [f32; 3] = core::array::from_fn(|k| (v0[k] + e2[k]).clamp(-f32::MAX, f32::MAX));
         let mut bx = points_bounds([v0, a, b])?;
         for k in 0..3 {
             bx.lo[k] = down(bx.lo[k]);
             bx.hi[k] = up(bx.hi[k]);
         }
-        bx.is_finite().then_some(bx)
+        Some(bx.clamped())
     }
 }
 

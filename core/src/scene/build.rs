@@ -435,9 +435,11 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
             .iter()
             .enumerate()
             .map(|(i, inst)| {
-                let obj = &self.tree_boxes[inst.tree as usize];
-                let world = if obj.is_finite() {
-                    let w = inst.transform.world_box(obj);
+                let t = inst.tree as usize;
+                // An empty tree is never hit; a tree whose boxes reach infinity (coordinates
+                // near f32::MAX widened) has no finite world box: every ray visits it.
+                let world = if self.trees[t].nodes > 0 {
+                    let w = inst.transform.world_box(&self.tree_boxes[t]);
                     if w.is_none() {
                         unbounded.push(i as u32);
                     }
@@ -458,8 +460,9 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
     }
 
     /// Builds the trees of the sets no tree holds yet, then the top level over the instances'
-    /// world boxes ([`Transform::world_box`]); the instances without one go on the unbounded
-    /// list (every ray visits them), those of empty trees nowhere.
+    /// world boxes ([`Transform::world_box`]); the instances without one (nearly singular, or
+    /// boxes that reach infinity) go on the unbounded list (every ray visits them), those of
+    /// empty trees nowhere.
     ///
     /// # Panics
     /// When a tree or the scene's slices would outgrow `u32` indices (use
