@@ -841,7 +841,7 @@ fn run_scene(rng: &mut Rng) {
         }
         best
     };
-    let odd = |h: &Hit| (h.prim + h.inst) % 2 == 0;
+    let odd = |h: &Hit| (h.prim + h.inst).is_multiple_of(2);
     let mut out = vec![None; rays.len()];
     r.closest::<f32x8, Watertight, StableSphere>(&rays, mask, &mut out);
     for (k, ray) in rays.iter().enumerate() {
@@ -861,7 +861,7 @@ fn run_scene(rng: &mut Rng) {
         let got = r.closest_ray_with::<f32x8, Watertight, StableSphere, _>(
             ray,
             mask,
-            &mut |c: &octoray::hit::Candidate| (c.prim + c.inst) % 2 == 0,
+            &mut |c: &octoray::hit::Candidate| (c.prim + c.inst).is_multiple_of(2),
         );
         assert_eq!(got, fw, "scene filtered, {ray:?}");
     }
