@@ -9,7 +9,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 echo "== no_std: host staticlib with its own panic handler"
 cargo build --quiet --manifest-path .ci/nostd-check/Cargo.toml --target-dir target/nostd-check
-echo "ok: octoray-core + octoray-packet (kernels and BVH traversal, alloc off) link into a #![no_std] staticlib"
+echo "ok: octoray-core + octoray-packet (kernels, BVH and scene traversal, alloc off) link into a #![no_std] staticlib"
 echo "== the scalar core without wide"
 cargo build --quiet -p octoray-core --no-default-features
 cargo build --quiet -p octoray-core --no-default-features --features triangle,sphere,alloc

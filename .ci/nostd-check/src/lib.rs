@@ -47,3 +47,20 @@ pub extern "C" fn octoray_nostd_bvh_probe(
         None => u32::MAX,
     }
 }
+
+/// A whole scene (top level and bottom trees) from borrowed slices with neither `std` nor
+/// `alloc`: validated, then traced by one ray and one packet. Returns the hit's instance, or
+/// u32::MAX for a miss or an invalid scene.
+pub fn octoray_nostd_scene_probe(parts: scene::SceneParts<'_>, x: f32) -> u32 {
+    use scene::Trace;
+    let Ok(s) = scene::SceneRef::<VertexTriangle, PackedSphere>::new(parts) else {
+        return u32::MAX;
+    };
+    let ray = Ray::new(Vec3::new(x, 0.25, -1.0), Vec3::new(0.0, 0.0, 1.0));
+    let packet = RayLanes::<f32x8>::load(&[ray; 3]);
+    let p = s.occluded_packet::<f32x8, Watertight, StableSphere>(&packet, !0);
+    match s.closest_ray::<f32x8, Watertight, StableSphere>(&ray, !0) {
+        Some(h) => h.inst ^ (p.bitmask() << 8),
+        None => u32::MAX,
+    }
+}
