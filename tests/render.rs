@@ -334,6 +334,7 @@ fn a_png_that_cannot_be_written_is_an_error_at_every_size() {
 
 #[test]
 fn ambient_occlusion_darkens_the_ground_next_to_the_spheres_and_nothing_else_changes() {
+    // (in front of the field)
     let mut s = Scene::default_scene();
     let flat = render(&s, TierArg::Standard, 8, W, H, &|_| {}).unwrap();
     s.ao_samples = 32;
@@ -346,7 +347,9 @@ fn ambient_occlusion_darkens_the_ground_next_to_the_spheres_and_nothing_else_cha
         ao.rays,
         flat.rays
     );
-    let lit_ground: Vec<(u32, u32)> = (0..H)
+    // The ground in front of the field of instances (their contacts darken the ground behind).
+    let front = s.project(Vec3::new(0.0, 0.0, -1.2), W, H).unwrap().1;
+    let lit_ground: Vec<(u32, u32)> = (front..H)
         .flat_map(|y| (0..W).map(move |x| (x, y)))
         .filter(|&(x, y)| {
             matches!(
@@ -379,4 +382,49 @@ fn ambient_occlusion_darkens_the_ground_next_to_the_spheres_and_nothing_else_cha
             })
     });
     assert!(near_contact, "darkest lit ground pixel {darkest:?}");
+}
+
+/// The default scene's field: 1 600 instances of the mesh behind it, seen and lit, each a hit
+/// of its own instance; the same pixels at every tier.
+#[test]
+fn the_field_of_instances_is_seen_lit_and_the_same_at_every_tier() {
+    let s = Scene::default_scene();
+    assert_eq!(s.field.len(), 1600);
+    assert!(s.virtual_triangles() > 2_000_000_000);
+    let a = render(&s, TierArg::Watertight, 8, W, H, &|_| {}).unwrap();
+    let b = render(&s, TierArg::Standard, 16, W, H, &|_| {}).unwrap();
+    assert_eq!(a.counts, (3, 3, 1603));
+    let field: Vec<bool> = a
+        .kinds
+        .iter()
+        .filter_map(|k| match k {
+            PixelKind::Field { shadowed } => Some(*shadowed),
+            _ => None,
+        })
+        .collect();
+    assert!(field.len() > 200, "{} field pixels", field.len());
+    assert!(field.iter().filter(|s| !**s).count() * 2 > field.len());
+    // The tiers may differ on a pixel at a silhouette, not on the picture.
+    let same = a.kinds.iter().zip(&b.kinds).filter(|(x, y)| x == y).count();
+    assert!(
+        same * 100 >= a.kinds.len() * 99,
+        "{same} of {}",
+        a.kinds.len()
+    );
+}
+
+/// An OBJ of two models gives two geometries, coloured apart.
+#[test]
+fn each_obj_model_is_its_own_geometry() {
+    let path = obj(
+        "two_models.obj",
+        "o a\nv -1 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\no b\nv -1 0 1\nv 1 0 1\nv 0 1 1\nf 4 5 6\n",
+    );
+    let s = cli::load_scene(&Some(path.clone())).unwrap();
+    std::fs::remove_file(&path).ok();
+    assert_eq!(s.mesh_groups, vec![0, 1]);
+    assert_ne!(s.tri_color[0], s.tri_color[1]);
+    let img = render(&s, TierArg::Watertight, 8, 16, 16, &|_| {}).unwrap();
+    // Two models, the ground, the spheres.
+    assert_eq!(img.counts.0, 4);
 }

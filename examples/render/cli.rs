@@ -122,9 +122,11 @@ pub fn parse(args: &[String]) -> Result<Options, String> {
 pub fn scene_for(o: &Options) -> Result<Scene, String> {
     let mut s = match &o.obj {
         Some(path) if o.camera.is_some() => {
-            let (positions, indices) = load_mesh(path)?;
-            Scene::with_mesh_in_place(&positions, &indices)
-                .map_err(|e| format!("{}: {e}", path.display()))?
+            let (positions, indices, models) = load_mesh(path)?;
+            let mut s = Scene::with_mesh_in_place(&positions, &indices)
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+            s.set_models(&models);
+            s
         }
         obj => load_scene(obj)?,
     };
@@ -149,12 +151,17 @@ pub fn load_scene(obj: &Option<PathBuf>) -> Result<Scene, String> {
     let Some(path) = obj else {
         return Ok(Scene::default_scene());
     };
-    let (positions, indices) = load_mesh(path)?;
-    Scene::with_mesh(&positions, &indices).map_err(|e| format!("{}: {e}", path.display()))
+    let (positions, indices, models) = load_mesh(path)?;
+    let mut s =
+        Scene::with_mesh(&positions, &indices).map_err(|e| format!("{}: {e}", path.display()))?;
+    s.set_models(&models);
+    Ok(s)
 }
 
-/// Positions and triangle indices of every model in an OBJ file, merged.
-fn load_mesh(path: &std::path::Path) -> Result<(Vec<[f32; 3]>, Vec<u32>), String> {
+/// Positions and triangle indices of every model in an OBJ file, merged, and where each model's
+/// triangles start.
+#[allow(clippy::type_complexity)]
+fn load_mesh(path: &std::path::Path) -> Result<(Vec<[f32; 3]>, Vec<u32>, Vec<usize>), String> {
     // Points and lines are not surfaces: left out (tobj would make zero-area triangles of them).
     let opts = tobj::LoadOptions {
         triangulate: true,
@@ -166,7 +173,9 @@ fn load_mesh(path: &std::path::Path) -> Result<(Vec<[f32; 3]>, Vec<u32>), String
         .map_err(|e| format!("cannot read {} as OBJ: {e}", path.display()))?;
     // Merge every model into one indexed mesh.
     let (mut positions, mut indices) = (Vec::<[f32; 3]>::new(), Vec::<u32>::new());
+    let mut starts = Vec::new();
     for m in &models {
+        starts.push(indices.len() / 3);
         // Indices are u32: a mesh past u32::MAX vertices cannot be addressed.
         let Ok(base) = u32::try_from(positions.len()) else {
             return Err(format!(
@@ -193,7 +202,7 @@ fn load_mesh(path: &std::path::Path) -> Result<(Vec<[f32; 3]>, Vec<u32>), String
             path.display()
         ));
     }
-    Ok((positions, indices))
+    Ok((positions, indices, starts))
 }
 
 /// Do two paths name the same file (the second may not exist yet)?

@@ -2,15 +2,15 @@
 //! `tests/render.rs`.
 #![allow(dead_code)]
 
-use octoray::bvh::{BuildStats, Bvh8};
-use octoray::glam::{DVec3, Vec3};
+use octoray::glam::{Affine3A, DVec3, Quat, Vec3};
 use octoray::hit::Hit;
 use octoray::kernels::{Exact, Kernel, MollerTrumbore, StableSphere, Watertight};
 use octoray::lanes::Lanes;
 use octoray::prim::{PackedSphere, PackedTriangle, Primitive, Ray, Sphere, VertexTriangle};
 use octoray::recommend::{recommend, Recommendation, SceneSpec, TierChoice};
+use octoray::scene::{Trace, Transform};
 use octoray::shading::Shade;
-use octoray::{f32x16, f32x4, f32x8, ingest, scene as bvh};
+use octoray::{f32x16, f32x4, f32x8, ingest};
 use octoray_testkit::camera::Pinhole;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -51,10 +51,15 @@ impl TierArg {
     }
 }
 
-/// A scene: triangles (one mesh plus a ground quad) and spheres, each with a colour.
+/// A scene: triangles (a mesh of one or more models plus a ground quad), spheres, each with a
+/// colour, and a field of instances of the mesh.
 pub struct Scene {
     pub tris: Vec<[Vec3; 3]>,
     pub tri_color: Vec<Vec3>,
+    /// Where each model of the mesh starts in `tris` (`[0]`: one model); each is a geometry.
+    pub mesh_groups: Vec<usize>,
+    /// Object → world placements of more instances of the mesh (all its models).
+    pub field: Vec<Affine3A>,
     pub spheres: Vec<(Vec3, f32)>,
     pub sphere_color: Vec<Vec3>,
     /// Unit direction towards the sun.
@@ -97,12 +102,43 @@ pub fn icosphere(levels: u32) -> (Vec<[f32; 3]>, Vec<u32>) {
     (positions, f.concat())
 }
 
+/// A field of `n` small copies of a mesh fitted into the unit ball at (0, 1, 0): scaled 0.07–0.13
+/// (so each sits on the ground), turned about the vertical, on a jittered grid over the ground
+/// behind the main mesh (z from −5.6 to −1.6, x from −5.6 to 5.6).
+pub fn field(n: u32) -> Vec<Affine3A> {
+    let cols = (n as f32 * 2.8).sqrt().ceil().max(1.0) as u32;
+    (0..n)
+        .map(|i| {
+            let (c, r) = (i % cols, i / cols);
+            let rows = n.div_ceil(cols).max(1);
+            let x = -5.6 + 11.2 * (c as f32 + 0.5 + 0.6 * hash(3 * i)) / cols as f32;
+            let z = -5.6 + 4.0 * (r as f32 + 0.5 + 0.6 * hash(3 * i + 1)) / rows as f32;
+            let s = 0.1 + 0.06 * hash(3 * i + 2);
+            Affine3A::from_scale_rotation_translation(
+                Vec3::splat(s),
+                Quat::from_rotation_y(7.0 * hash(i ^ 0x5555)),
+                Vec3::new(x, 0.0, z),
+            )
+        })
+        .collect()
+}
+
 impl Scene {
     /// The embedded default scene: a bumpy, jittered icosphere of 1.3 M triangles (8 levels) on a
-    /// ground quad with three spheres.
+    /// ground quad with three spheres, and a field of 1 600 small instances of the icosphere
+    /// behind it (2.1 billion virtual triangles, one tree).
     pub fn default_scene() -> Self {
         let (positions, indices) = icosphere(8);
-        Self::with_mesh(&positions, &indices).expect("the embedded mesh is valid")
+        let mut s = Self::with_mesh(&positions, &indices).expect("the embedded mesh is valid");
+        s.field = field(1600);
+        s
+    }
+
+    /// The number of triangles the instances place: the mesh once per placement, plus the
+    /// ground.
+    pub fn virtual_triangles(&self) -> u64 {
+        self.mesh_tris as u64 * (1 + self.field.len() as u64)
+            + (self.tris.len() - self.mesh_tris) as u64
     }
 
     /// A mesh at its own coordinates (no ground quad), the default scene's spheres and sun,
@@ -116,6 +152,7 @@ impl Scene {
             .collect();
         s.mesh_tris = s.tris.len();
         s.tri_color = vec![Vec3::new(0.8, 0.72, 0.6); s.mesh_tris];
+        s.field.clear();
         Ok(s)
     }
 
@@ -162,6 +199,8 @@ impl Scene {
         Ok(Self {
             tris,
             tri_color,
+            mesh_groups: vec![0],
+            field: Vec::new(),
             spheres: vec![
                 (Vec3::new(-2.1, 0.6, 0.6), 0.6),
                 (Vec3::new(2.0, 0.5, -0.4), 0.5),
@@ -198,6 +237,35 @@ impl Scene {
     /// The pixel a point projects to (for tests), if on screen.
     pub fn project(&self, p: Vec3, w: u32, h: u32) -> Option<(u32, u32)> {
         self.camera().project(p, w, h)
+    }
+
+    /// Makes the mesh's models (starting at `starts` in `tris`) separate geometries, each
+    /// coloured its own way (a hue per model; one model keeps the scene's colour).
+    pub fn set_models(&mut self, starts: &[usize]) {
+        let mut starts: Vec<usize> = starts
+            .iter()
+            .copied()
+            .filter(|&k| k < self.mesh_tris)
+            .collect();
+        starts.sort_unstable();
+        starts.dedup();
+        if starts.first() != Some(&0) {
+            starts.insert(0, 0);
+        }
+        if starts.len() > 1 {
+            let mut bounds = starts.clone();
+            bounds.push(self.mesh_tris);
+            for (m, w) in bounds.windows(2).enumerate() {
+                let h = m as u32;
+                let c = Vec3::new(
+                    0.55 + hash(7 * h),
+                    0.55 + hash(7 * h + 1),
+                    0.55 + hash(7 * h + 2),
+                );
+                self.tri_color[w[0]..w[1]].fill(c.clamp(Vec3::splat(0.1), Vec3::ONE));
+            }
+        }
+        self.mesh_groups = starts;
     }
 
     /// Triangles with zero area (a repeated vertex, or collinear): they can never be hit.
@@ -266,9 +334,20 @@ fn is_degenerate(t: &[Vec3; 3]) -> bool {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PixelKind {
     Sky,
-    Mesh { shadowed: bool },
-    Ground { shadowed: bool },
-    Sphere { index: u32, shadowed: bool },
+    Mesh {
+        shadowed: bool,
+    },
+    /// One of the field's instances of the mesh.
+    Field {
+        shadowed: bool,
+    },
+    Ground {
+        shadowed: bool,
+    },
+    Sphere {
+        index: u32,
+        shadowed: bool,
+    },
 }
 
 /// A rendered image.
@@ -278,16 +357,16 @@ pub struct Image {
     pub rgb: Vec<u8>,
     pub kinds: Vec<PixelKind>,
     pub rays: u64,
-    /// Seconds to build the triangles' BVH (one thread).
+    /// Seconds to build the scene (its trees and the top level, all threads).
     pub build_secs: f64,
     /// Seconds spent tracing (all threads, wall clock).
     pub trace_secs: f64,
-    /// The BVH's figures.
-    pub bvh: BuildStats,
+    /// Geometries, trees and instances of the scene as traced.
+    pub counts: (usize, usize, usize),
 }
 
 /// The primitives in the layouts the kernels read.
-struct Prims {
+pub struct Prims {
     packed: Vec<PackedTriangle>,
     verts: Vec<VertexTriangle>,
     spheres: Vec<PackedSphere>,
@@ -316,6 +395,79 @@ fn cosine_directions(normal: Vec3, seed: u32, n: u32) -> impl Iterator<Item = Ve
     })
 }
 
+/// What a hit is, from its geometry and instance in the traced scene.
+#[derive(Clone, Copy)]
+enum Part {
+    /// Model `m` of the mesh (the main one, or field instance `f`).
+    Mesh {
+        model: usize,
+        field: Option<usize>,
+    },
+    Ground,
+    Sphere,
+}
+
+/// The scene as octoray traces it: one triangle geometry per model of the mesh, one for the
+/// ground and one for the spheres; the mesh's models in one tree placed once at the origin and
+/// once per field instance, the ground and the spheres placed once.
+struct Traced<T> {
+    world: octoray::scene::Scene<T, PackedSphere>,
+    models: usize,
+    ground: Option<u32>,
+    first_field: u32,
+}
+
+impl<T: Primitive + Sync> Traced<T> {
+    fn new(scene: &Scene, tris: &[T], spheres: &[PackedSphere]) -> Self {
+        let mut world = octoray::scene::Scene::new();
+        let mut bounds = scene.mesh_groups.clone();
+        bounds.push(scene.mesh_tris);
+        let mesh: Vec<u32> = bounds
+            .windows(2)
+            .map(|w| world.add_triangles(&tris[w[0]..w[1]]).expect("build"))
+            .collect();
+        let ground = (scene.mesh_tris < tris.len()).then(|| {
+            world
+                .add_triangles(&tris[scene.mesh_tris..])
+                .expect("build")
+        });
+        let balls = world.add_spheres(spheres).expect("build");
+        world.add_instance(&mesh, Transform::IDENTITY, !0);
+        if let Some(g) = ground {
+            world.add_instance(&[g], Transform::IDENTITY, !0);
+        }
+        world.add_instance(&[balls], Transform::IDENTITY, !0);
+        let first_field = world.instances().len() as u32;
+        for a in &scene.field {
+            // A placement that cannot be inverted (a zero scale) places nothing.
+            if let Some(t) = Transform::placing(*a) {
+                world.add_instance(&mesh, t, !0);
+            }
+        }
+        world
+            .commit_with(&octoray::parallel::Rayon)
+            .expect("the scene's indices fit u32");
+        Self {
+            world,
+            models: mesh.len(),
+            ground,
+            first_field,
+        }
+    }
+
+    fn part(&self, h: &Hit) -> Part {
+        let g = h.geom as usize;
+        if g < self.models {
+            let field = (h.inst >= self.first_field).then(|| (h.inst - self.first_field) as usize);
+            Part::Mesh { model: g, field }
+        } else if Some(h.geom) == self.ground {
+            Part::Ground
+        } else {
+            Part::Sphere
+        }
+    }
+}
+
 /// Renders with triangle kernel `K` and the stable sphere kernel at lane width `L`.
 fn render_with<L, K>(
     scene: &Scene,
@@ -332,11 +484,10 @@ where
     StableSphere: Kernel<L, Prim = PackedSphere>,
 {
     let start = std::time::Instant::now();
-    // The binary SAH build on rayon's threads (the same tree as `Bvh8::build`).
-    let tree = Bvh8::try_build_with(tris, &octoray::parallel::Rayon)
-        .unwrap_or_else(|e| panic!("BVH build: {e}"));
+    // The trees' binary SAH builds on rayon's threads (the same trees as one thread's).
+    let traced = Traced::new(scene, tris, &prims.spheres);
     let build_secs = start.elapsed().as_secs_f64();
-    let bvh = tree.as_ref();
+    let world = traced.world.as_ref();
     let start = std::time::Instant::now();
     let rays = AtomicU64::new(0);
     // Ambient-occlusion rays reach a tenth of the scene's box diagonal.
@@ -351,33 +502,34 @@ where
         .into_par_iter()
         .map(|y| {
             let primary: Vec<Ray> = (0..w).map(|x| scene.camera_ray(x, y, w, h)).collect();
-            // Closest triangle and closest sphere per ray, the nearer wins.
-            let mut tri_hits = vec![None; primary.len()];
-            let mut sphere_hits = vec![None; primary.len()];
-            bvh::closest::<L, K>(bvh, &primary, &mut tri_hits);
-            octoray::closest::<L, StableSphere>(&primary, &prims.spheres, &mut sphere_hits);
-            let hits: Vec<Option<(Hit, bool)>> = tri_hits
-                .iter()
-                .zip(&sphere_hits)
-                .map(|(a, b)| match (*a, *b) {
-                    (Some(a), Some(b)) => Some(if b.t < a.t { (b, true) } else { (a, false) }),
-                    (Some(a), None) => Some((a, false)),
-                    (None, Some(b)) => Some((b, true)),
-                    (None, None) => None,
-                })
-                .collect();
+            // Triangles and spheres in one query: the hit names its geometry and instance.
+            let mut hits = vec![None; primary.len()];
+            world.closest::<L, K, StableSphere>(&primary, !0, &mut hits);
             // Shading points and shadow rays towards the sun, from conservatively offset origins.
             let mut shade = vec![];
             let mut shadow = vec![];
             let mut ao = vec![];
             for (ray, hit) in primary.iter().zip(&hits) {
-                let Some((h, is_sphere)) = *hit else { continue };
-                let surface = if is_sphere {
-                    let (c, r) = scene.spheres[h.prim as usize];
-                    Sphere::new(c, r).surface(ray, &h)
-                } else {
-                    let t = scene.tris[h.prim as usize];
-                    VertexTriangle::new(t[0], t[1], t[2]).surface(ray, &h)
+                let Some(h) = *hit else { continue };
+                let surface = match traced.part(&h) {
+                    Part::Sphere => {
+                        let (c, r) = scene.spheres[h.prim as usize];
+                        Sphere::new(c, r).surface(ray, &h)
+                    }
+                    Part::Ground => {
+                        let t = scene.tris[scene.mesh_tris + h.prim as usize];
+                        VertexTriangle::new(t[0], t[1], t[2]).surface(ray, &h)
+                    }
+                    Part::Mesh { model, field } => {
+                        let t = scene.tris[scene.mesh_groups[model] + h.prim as usize];
+                        // A field instance is shaded from its triangle carried into the world
+                        // (barycentrics and t are the same in both spaces).
+                        let t = match field {
+                            Some(f) => t.map(|v| scene.field[f].transform_point3(v)),
+                            None => t,
+                        };
+                        VertexTriangle::new(t[0], t[1], t[2]).surface(ray, &h)
+                    }
                 };
                 shade.push((surface.point, surface.normal));
                 shadow.push(Ray::new(surface.spawn(scene.light), scene.light));
@@ -388,28 +540,17 @@ where
                     ao.push(Ray::with_range(surface.spawn(dir), dir, 0.0, ao_reach));
                 }
             }
-            let mut blocked_by_tri = vec![false; shadow.len()];
-            let mut blocked_by_sphere = vec![false; shadow.len()];
-            bvh::occluded::<L, K>(bvh, &shadow, &mut blocked_by_tri);
-            octoray::occluded::<L, StableSphere>(&shadow, &prims.spheres, &mut blocked_by_sphere);
-            let lit: Vec<bool> = blocked_by_tri
-                .iter()
-                .zip(&blocked_by_sphere)
-                .map(|(a, b)| !a && !b)
-                .collect();
+            let mut blocked = vec![false; shadow.len()];
+            world.occluded::<L, K, StableSphere>(&shadow, !0, &mut blocked);
             // A shading point's share of ambient-occlusion rays that reach open space.
             let mut ao_open = vec![1.0f32; shade.len()];
             if scene.ao_samples > 0 {
-                let mut by_tri = vec![false; ao.len()];
-                let mut by_sphere = vec![false; ao.len()];
-                bvh::occluded::<L, K>(bvh, &ao, &mut by_tri);
-                octoray::occluded::<L, StableSphere>(&ao, &prims.spheres, &mut by_sphere);
+                let mut by_any = vec![false; ao.len()];
+                world.occluded::<L, K, StableSphere>(&ao, !0, &mut by_any);
                 let n = scene.ao_samples as usize;
                 for (k, open) in ao_open.iter_mut().enumerate() {
-                    let blocked = (k * n..(k + 1) * n)
-                        .filter(|&i| by_tri[i] || by_sphere[i])
-                        .count();
-                    *open = 1.0 - blocked as f32 / n as f32;
+                    let hit = (k * n..(k + 1) * n).filter(|&i| by_any[i]).count();
+                    *open = 1.0 - hit as f32 / n as f32;
                 }
             }
             rays.fetch_add(
@@ -424,29 +565,44 @@ where
             for (ray, hit) in primary.iter().zip(&hits) {
                 let (color, kind) = match *hit {
                     None => (sky(ray.dir), PixelKind::Sky),
-                    Some((h, is_sphere)) => {
+                    Some(h) => {
                         let (_, n) = shade[k];
-                        let (visible, open) = (lit[k], ao_open[k]);
+                        let (visible, open) = (!blocked[k], ao_open[k]);
                         k += 1;
-                        let albedo = if is_sphere {
-                            scene.sphere_color[h.prim as usize]
-                        } else {
-                            scene.tri_color[h.prim as usize]
+                        let shadowed = !visible;
+                        let (albedo, kind) = match traced.part(&h) {
+                            Part::Sphere => (
+                                scene.sphere_color[h.prim as usize],
+                                PixelKind::Sphere {
+                                    index: h.prim,
+                                    shadowed,
+                                },
+                            ),
+                            Part::Ground => (
+                                scene.tri_color[scene.mesh_tris + h.prim as usize],
+                                PixelKind::Ground { shadowed },
+                            ),
+                            Part::Mesh { model, field } => {
+                                let c = scene.tri_color[scene.mesh_groups[model] + h.prim as usize];
+                                match field {
+                                    // Each field instance tinted its own way.
+                                    Some(f) => {
+                                        let f = f as u32;
+                                        let tint = Vec3::new(
+                                            1.0 + 0.6 * hash(5 * f),
+                                            1.0 + 0.6 * hash(5 * f + 1),
+                                            1.0 + 0.6 * hash(5 * f + 2),
+                                        );
+                                        (c * tint, PixelKind::Field { shadowed })
+                                    }
+                                    None => (c, PixelKind::Mesh { shadowed }),
+                                }
+                            }
                         };
                         let diffuse = if visible {
                             n.dot(scene.light).max(0.0)
                         } else {
                             0.0
-                        };
-                        let kind = if is_sphere {
-                            PixelKind::Sphere {
-                                index: h.prim,
-                                shadowed: !visible,
-                            }
-                        } else if (h.prim as usize) < scene.mesh_tris {
-                            PixelKind::Mesh { shadowed: !visible }
-                        } else {
-                            PixelKind::Ground { shadowed: !visible }
                         };
                         // Without ambient occlusion a constant ambient term; with it, a larger
                         // sky term scaled by how open the hemisphere is.
@@ -478,7 +634,11 @@ where
         rays: rays.into_inner(),
         build_secs,
         trace_secs: start.elapsed().as_secs_f64(),
-        bvh: tree.stats(),
+        counts: (
+            world.geometries().len(),
+            world.trees().len(),
+            world.instances().len(),
+        ),
     }
 }
 
