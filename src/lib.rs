@@ -7,8 +7,9 @@
 //! | rays, primitives, their SoA layouts | [`prim`] ([`prim::Ray`], [`prim::VertexTriangle`], [`prim::PackedTriangle`], [`prim::Sphere`], [`prim::PackedSphere`]) |
 //! | a tier (accuracy against speed) and its contract | [`kernels`] ([`kernels::MollerTrumbore`], [`kernels::Watertight`], [`kernels::Exact`], [`kernels::StableSphere`]); the f64 tier is any of them at [`f64x4`]/[`f64x8`] |
 //! | what a test answers | [`hit`] ([`hit::Hit`]) |
-//! | a tree over a scene: build, store, validate | [`bvh`] ([`bvh::Bvh8`], [`bvh::Bvh8Ref`]) |
-//! | rays against a scene | [`scene`] (slices of rays, packets, single rays) |
+//! | a tree over one primitive slice: build, refit, store, validate | [`bvh`] ([`bvh::Bvh8`], [`bvh::Bvh8Ref`]) |
+//! | rays against one tree | [`scene`] ([`scene::closest_ray`], [`scene::closest_packet`], [`scene::closest`], …, and `_with` forms taking a [`hit::HitFilter`]) |
+//! | a renderer's scene: several meshes and sphere sets, instances, masks, IDs in the hit | [`scene::Scene`], [`scene::SceneRef`], [`scene::Transform`]; rays through it with [`scene::Trace`] |
 //! | rays against a slice of primitives | [`closest`], [`closest_t`], [`occluded`] (slices), [`query`] (one packet), [`intersect`] (one ray) |
 //! | lane types | [`f32x4`], [`f32x8`], [`f32x16`], [`f64x4`], [`f64x8`]; the trait [`lanes::Lanes`] |
 //! | hit points, normals, spawned rays | [`shading`] |

@@ -1,32 +1,37 @@
-//! A renderer's scene as data: geometries (each a tree over one primitive slice, triangles or
-//! spheres), instances that place them in the world with affine transforms and masks, and the
-//! top-level tree over the instances' world boxes. The walks over it are `octoray-packet`'s
-//! `scene::Trace`.
+//! A renderer's scene as data: geometries (primitive slices, triangles or spheres, each with an
+//! ID and a mask), bottom-level trees over sets of them, instances that place the trees in the
+//! world with affine transforms and masks, and the top-level tree over the instances' world
+//! boxes. The walks over it are `octoray-packet`'s `scene::Trace`.
 //!
-//! - [`Geometry`]: one geometry's kind, mask and where its tree lies in the scene's slices.
-//! - [`Instance`]: a geometry placed by a [`Transform`] (world → object), with a mask.
+//! - [`Geometry`]: one geometry's kind, mask and length.
+//! - [`SceneTree`] and [`Member`]: a BVH over one or more geometries of one kind (their
+//!   primitives one after another), and where each member's primitives start in it. Static
+//!   meshes share one tree (the cost of one tree); an instanced mesh has a tree of its own.
+//! - [`Instance`]: a tree placed by a [`Transform`] (world → object), with a mask.
 //! - [`SceneRef`]: the whole scene as borrowed slices, validated by [`SceneRef::new`]; traversal
 //!   needs nothing else (no allocator, no `std`), so a scene written on a host can be traced on
 //!   a target from `&'static` data.
-//! - [`Scene`] (feature `alloc`): the owned scene, built geometry by geometry.
+//! - [`Scene`] (feature `alloc`): the owned scene: add geometries, place sets of them, commit.
 //!
 //! # Contract
-//! A scene query's answer equals brute force over every instance whose mask, its geometry's mask
-//! and the query's mask share a bit: each instance's primitives tested with the ray carried into
-//! its object space by [`Transform::apply`] (the same f32 ray for every primitive of that
-//! instance), bit for bit (hit/miss, `t`, `u`, `v`, primitive, geometry, instance), with the tie
-//! rule: among hits of equal `t`, the lowest instance index, then the lowest primitive index
-//! wins. `t` is measured along the world ray (the transform keeps it), so hits of different
-//! instances compare by `t`; each carries the transform's rounding (1 ulp of each ray
-//! component), which moves its `t` by up to about `κ·ε` relative for an instance whose
-//! transform has condition number `κ`, on top of the tier's own `t` error.
+//! A scene query's answer equals brute force over every instance, over every geometry of its
+//! tree whose mask shares a bit with the instance's and the query's: each instance's primitives
+//! tested with the ray carried into its object space by [`Transform::apply`] (the same f32 ray
+//! for every primitive of that instance), bit for bit (hit/miss, `t`, `u`, `v`, primitive,
+//! geometry, instance), with the tie rule: among hits of equal `t`, the lowest instance index,
+//! then the lowest geometry, then the lowest primitive wins. `t` is measured along the world ray
+//! (the transform keeps it), so hits of different instances compare by `t`. The transformed ray
+//! is within 1 ulp of the exact map per component, which moves a hit's `t` by up to about
+//! `κ·ε` relative (ε = 2⁻²⁴) for an instance whose transform has condition number `κ`, on top of
+//! the tier's own `t` error; the identity keeps the ray's bits, so an instance placed there
+//! answers exactly as its tree alone.
 //!
 //! Within one instance each tier keeps its contract (watertightness included: one ray, one
-//! mesh). Two instances that share an edge in the world see two different rounded rays, so a
+//! tree). Two instances that share an edge in the world see two differently rounded rays, so a
 //! ray through that edge can pass between them by up to the transforms' rounding (about
-//! `κ·ε·(‖o‖ + t‖d‖)`): a closed surface made of several instances is watertight only where its
-//! instances share one transform. Instances are one level deep: an instance places a geometry,
-//! not another scene.
+//! `κ·ε·(‖o‖ + t‖d‖)`): a closed surface made of several instances is watertight only where
+//! they share one transform; put a closed mesh in one geometry, or several in one tree.
+//! Instances are one level deep: an instance places a tree of geometries, not another scene.
 //!
 //! The top level's box tests are conservative for the rounded rays: each instance's world box is
 //! grown by what the rounding into object space can move a hit ([`Transform::world_box`]), and
@@ -268,13 +273,20 @@ fn origin_slack(instances: &[Instance]) -> f32 {
 }
 
 /// One bottom-level tree, by kind, with its members.
-#[derive(Clone, Copy, Debug)]
+#[derive(Debug)]
 pub enum TreeRef<'a, T, S> {
     /// Over triangle geometries.
     Triangles(Bvh8Ref<'a, T>, &'a [Member]),
     /// Over sphere geometries.
     Spheres(Bvh8Ref<'a, S>, &'a [Member]),
 }
+
+impl<T, S> Clone for TreeRef<'_, T, S> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<T, S> Copy for TreeRef<'_, T, S> {}
 
 /// A scene as borrowed slices, validated: what the scene walks read. `Copy`, no allocation.
 /// `T` and `S` are the triangle and sphere layouts of the tiers that will trace it.
@@ -283,7 +295,9 @@ pub struct SceneRef<'a, T, S> {
     parts: SceneParts<'a>,
     top: Bvh8Ref<'a, InstanceBox>,
     origin_slack: f32,
-    _prim: core::marker::PhantomData<(T, S)>,
+    /// The tree of the only instance, found once (a renderer's static world: every ray enters
+    /// it).
+    sole: Option<TreeRef<'a, T, S>>,
 }
 
 impl<T, S> Clone for SceneRef<'_, T, S> {
@@ -420,12 +434,21 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
         {
             return Err(SceneError::BadUnbounded { at });
         }
-        Ok(Self {
+        Ok(Self::with_sole(parts, top, origin_slack))
+    }
+
+    /// The scene, with the only instance's tree found once.
+    fn with_sole(parts: SceneParts<'a>, top: Bvh8Ref<'a, InstanceBox>, origin_slack: f32) -> Self {
+        let mut s = Self {
             parts,
             top,
             origin_slack,
-            _prim: core::marker::PhantomData,
-        })
+            sole: None,
+        };
+        if let [only] = parts.instances {
+            s.sole = s.tree(only.tree);
+        }
+        s
     }
 
     /// A scene [`Scene`] built (valid by construction: not validated again).
@@ -435,12 +458,7 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
         top: Bvh8Ref<'a, InstanceBox>,
         origin_slack: f32,
     ) -> Self {
-        Self {
-            parts,
-            top,
-            origin_slack,
-            _prim: core::marker::PhantomData,
-        }
+        Self::with_sole(parts, top, origin_slack)
     }
 
     /// The slices (to store the scene: `bytemuck::cast_slice` each to bytes).
@@ -476,6 +494,31 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
     /// The relative origin slack of the top level's box tests (at least [`SLACK`]).
     pub fn origin_slack(&self) -> f32 {
         self.origin_slack
+    }
+
+    /// Instance `inst` and its tree (`None` when `inst` is out of range).
+    #[inline]
+    pub fn instance_tree(&self, inst: u32) -> Option<(&'a Instance, TreeRef<'a, T, S>)> {
+        let i = self.parts.instances.get(inst as usize)?;
+        match self.sole {
+            Some(t) => Some((i, t)),
+            None => Some((i, self.tree(i.tree)?)),
+        }
+    }
+
+    /// Tree `t`'s members (empty when `t` is out of range).
+    #[inline]
+    pub fn members(&self, t: u32) -> &'a [Member] {
+        self.parts
+            .trees
+            .get(t as usize)
+            .and_then(|tr| {
+                self.parts
+                    .members
+                    .get(tr.first_member as usize..)?
+                    .get(..tr.members as usize)
+            })
+            .unwrap_or(&[])
     }
 
     /// Tree `t` with its members (`None` when `t` is out of range).

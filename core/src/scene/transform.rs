@@ -61,8 +61,12 @@ impl Transform {
     }
 
     /// True for [`Transform::IDENTITY`] (bit for bit: `−0` entries are not the identity).
+    #[inline]
     pub fn is_identity(&self) -> bool {
-        bytemuck::bytes_of(self) == bytemuck::bytes_of(&Self::IDENTITY)
+        // Row by row as 128-bit words: three compares.
+        let rows: [u128; 3] = bytemuck::cast(self.rows);
+        let id: [u128; 3] = bytemuck::cast(Self::IDENTITY.rows);
+        rows == id
     }
 
     /// The ray in object space: each component of `A·o + b` and `A·d` formed in f64 from the

@@ -97,6 +97,8 @@ pub(super) struct PacketBest<L: Lanes> {
     pub cull: L,
     /// Set when `cull` moved (the frustum recomputes its bound then).
     pub moved: bool,
+    /// Set when a lane's best hit may have its geometry left to find after the walk.
+    pub unplaced: bool,
 }
 
 impl<L: Lanes> PacketBest<L> {
@@ -115,6 +117,7 @@ impl<L: Lanes> PacketBest<L> {
             inst: L::splat_index(0),
             cull: t_max,
             moved: true,
+            unplaced: false,
         }
     }
 
@@ -147,5 +150,6 @@ impl<L: Lanes> PacketBest<L> {
         self.inst = L::select_index(m, L::splat_index(b.inst), self.inst);
         self.cull = L::select(m, octoray_core::query::loosen(self.t, t_max), self.cull);
         self.moved = true;
+        self.unplaced |= b.geom == super::walk::UNPLACED;
     }
 }

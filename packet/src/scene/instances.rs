@@ -18,12 +18,12 @@ use wide::f32x8;
 
 /// The top level's leaves: instances of `scene` visited under the query's `mask`, their
 /// triangles tested with `KT` and their spheres with `KS`.
-struct Instances<'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> {
-    scene: SceneRef<'a, KT::Prim, KS::Prim>,
+struct Instances<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> {
+    scene: &'s SceneRef<'a, KT::Prim, KS::Prim>,
     mask: u32,
 }
 
-impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'_, L, KT, KS> {
+impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'_, '_, L, KT, KS> {
     /// The instance and its tree, with what the leaves need to name each hit's geometry, when
     /// the masks admit the query: the instance's (and a single geometry's) before the tree is
     /// entered; in a tree of several geometries, each geometry's at its hits.
@@ -37,9 +37,8 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'_, L, KT, KS> {
         TreeRef<'_, KT::Prim, KS::Prim>,
         (u32, u32, Members<'_>),
     )> {
-        let i = self.scene.instances().get(inst as usize)?;
+        let (i, tree) = self.scene.instance_tree(inst)?;
         let mask = i.mask & self.mask;
-        let tree = self.scene.tree(i.tree)?;
         let members = match &tree {
             TreeRef::Triangles(_, m) | TreeRef::Spheres(_, m) => *m,
         };
@@ -87,12 +86,19 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'_, L, KT, KS> {
             return false;
         };
         let ray = i.transform.apply(world);
-        match tree {
-            TreeRef::Triangles(b, _) => {
-                run_single::<L, KT, F, ANY>(b, place, &ray, best, filter, ray_id)
+        let many = !place.2.members.is_empty();
+        match (tree, many) {
+            (TreeRef::Triangles(b, _), false) => {
+                run_single::<L, KT, F, ANY, false>(b, place, &ray, best, filter, ray_id)
             }
-            TreeRef::Spheres(b, _) => {
-                run_single::<L, KS, F, ANY>(b, place, &ray, best, filter, ray_id)
+            (TreeRef::Triangles(b, _), true) => {
+                run_single::<L, KT, F, ANY, true>(b, place, &ray, best, filter, ray_id)
+            }
+            (TreeRef::Spheres(b, _), false) => {
+                run_single::<L, KS, F, ANY, false>(b, place, &ray, best, filter, ray_id)
+            }
+            (TreeRef::Spheres(b, _), true) => {
+                run_single::<L, KS, F, ANY, true>(b, place, &ray, best, filter, ray_id)
             }
         }
     }
@@ -126,18 +132,25 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'_, L, KT, KS> {
                 ..RayLanes::<L>::load(&lanes)
             }
         };
-        match tree {
-            TreeRef::Triangles(b, _) => {
-                run_packet::<L, KT, F, ANY>(b, place, &rays, best, filter, ray_base)
+        let many = !place.2.members.is_empty();
+        match (tree, many) {
+            (TreeRef::Triangles(b, _), false) => {
+                run_packet::<L, KT, F, ANY, false>(b, place, &rays, best, filter, ray_base)
             }
-            TreeRef::Spheres(b, _) => {
-                run_packet::<L, KS, F, ANY>(b, place, &rays, best, filter, ray_base)
+            (TreeRef::Triangles(b, _), true) => {
+                run_packet::<L, KT, F, ANY, true>(b, place, &rays, best, filter, ray_base)
+            }
+            (TreeRef::Spheres(b, _), false) => {
+                run_packet::<L, KS, F, ANY, false>(b, place, &rays, best, filter, ray_base)
+            }
+            (TreeRef::Spheres(b, _), true) => {
+                run_packet::<L, KS, F, ANY, true>(b, place, &rays, best, filter, ray_base)
             }
         }
     }
 }
 
-impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Leaf<L> for Instances<'_, L, KT, KS> {
+impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Leaf<L> for Instances<'_, '_, L, KT, KS> {
     type Pre = ();
 
     #[inline(always)]
@@ -185,8 +198,8 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Leaf<L> for Instances<'_, L, KT, KS
     }
 }
 
-/// Geometry and primitive of a hit of instance `inst` at its tree's primitive `id`.
-fn place_hit<T, S>(scene: &SceneRef<'_, T, S>, inst: u32, id: u32) -> (u32, u32)
+/// The members of instance `inst`'s tree, to find hits' geometries after the walk.
+fn members_of<'a, T, S>(scene: &SceneRef<'a, T, S>, inst: u32) -> Members<'a>
 where
     T: octoray_core::prim::Primitive,
     S: octoray_core::prim::Primitive,
@@ -194,18 +207,13 @@ where
     let members = scene
         .instances()
         .get(inst as usize)
-        .and_then(|i| scene.tree(i.tree))
-        .map(|t| match t {
-            TreeRef::Triangles(_, m) | TreeRef::Spheres(_, m) => m,
-        })
-        .unwrap_or(&[]);
-    let m = Members {
+        .map_or(&[][..], |i| scene.members(i.tree));
+    Members {
         members,
         geoms: scene.geometries(),
         mask: u32::MAX,
         all_admitted: true,
-    };
-    m.place(id).unwrap_or((0, id))
+    }
 }
 
 /// The best hit with its geometry found, if the walk left that for later.
@@ -218,46 +226,58 @@ where
     S: octoray_core::prim::Primitive,
 {
     if b.geom == UNPLACED {
-        (b.geom, b.prim) = place_hit(scene, b.inst, b.id);
+        (b.geom, b.prim) = members_of(scene, b.inst).place(b.id).unwrap_or((0, b.id));
     }
     b
 }
 
-/// The packet's best hits with their geometries found, where the walk left that for later.
-fn placed_packet<L: Lanes, T, S>(scene: &SceneRef<'_, T, S>, mut b: PacketBest<L>) -> PacketBest<L>
+/// The packet's best hits with their geometries found, where the walk left that for later
+/// (lanes of one instance, the usual case, share one lookup of its members).
+fn placed_packet<L: Lanes, T, S>(scene: &SceneRef<'_, T, S>, b: &mut PacketBest<L>)
 where
     T: octoray_core::prim::Primitive,
     S: octoray_core::prim::Primitive,
 {
     let mut m = b.mask.bitmask();
+    let mut cached: Option<(u32, Members<'_>)> = None;
     while m != 0 {
         let i = m.trailing_zeros() as usize;
         m &= m - 1;
-        if L::index_lane(b.geom, i) == UNPLACED {
-            let (g, p) = place_hit(scene, L::index_lane(b.inst, i), L::index_lane(b.id, i));
-            let lane = L::mask_from_bits(1 << i);
-            b.geom = L::select_index(lane, L::splat_index(g), b.geom);
-            b.prim = L::select_index(lane, L::splat_index(p), b.prim);
+        if L::index_lane(b.geom, i) != UNPLACED {
+            continue;
         }
+        let inst = L::index_lane(b.inst, i);
+        let members = match cached {
+            Some((k, members)) if k == inst => members,
+            _ => {
+                let members = members_of(scene, inst);
+                cached = Some((inst, members));
+                members
+            }
+        };
+        let id = L::index_lane(b.id, i);
+        let (g, p) = members.place(id).unwrap_or((0, id));
+        let lane = L::mask_from_bits(1 << i);
+        b.geom = L::select_index(lane, L::splat_index(g), b.geom);
+        b.prim = L::select_index(lane, L::splat_index(p), b.prim);
     }
-    b
 }
 
 /// One world ray through the scene.
 fn scene_single<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: bool>(
-    scene: SceneRef<'_, KT::Prim, KS::Prim>,
+    scene: &SceneRef<'_, KT::Prim, KS::Prim>,
     ray: &Ray,
     mask: u32,
     filter: &mut F,
     ray_id: u32,
 ) -> (bool, Option<Best<L::Scalar>>) {
     let (any, best) = walk_single::<L, KT, KS, F, ANY>(scene, ray, mask, filter, ray_id);
-    (any, best.map(|b| placed(&scene, b)))
+    (any, best.map(|b| placed(scene, b)))
 }
 
 /// [`scene_single`]'s walk (geometries possibly left to find).
 fn walk_single<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: bool>(
-    scene: SceneRef<'_, KT::Prim, KS::Prim>,
+    scene: &SceneRef<'_, KT::Prim, KS::Prim>,
     ray: &Ray,
     mask: u32,
     filter: &mut F,
@@ -305,38 +325,38 @@ fn walk_single<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: 
 
 /// A world packet through the scene.
 fn scene_packet<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: bool>(
-    scene: SceneRef<'_, KT::Prim, KS::Prim>,
-    rays: &RayLanes<L>,
-    mask: u32,
-    filter: &mut F,
-    ray_base: u32,
-) -> PacketBest<L> {
-    let best = walk_packet::<L, KT, KS, F, ANY>(scene, rays, mask, filter, ray_base);
-    if ANY {
-        best
-    } else {
-        placed_packet(&scene, best)
-    }
-}
-
-/// [`scene_packet`]'s walk (geometries possibly left to find).
-fn walk_packet<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: bool>(
-    scene: SceneRef<'_, KT::Prim, KS::Prim>,
+    scene: &SceneRef<'_, KT::Prim, KS::Prim>,
     rays: &RayLanes<L>,
     mask: u32,
     filter: &mut F,
     ray_base: u32,
 ) -> PacketBest<L> {
     let mut best = PacketBest::new(rays.t_max);
+    walk_packet::<L, KT, KS, F, ANY>(scene, rays, mask, filter, ray_base, &mut best);
+    if !ANY && best.unplaced {
+        placed_packet(scene, &mut best);
+    }
+    best
+}
+
+/// [`scene_packet`]'s walk (geometries possibly left to find).
+fn walk_packet<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: bool>(
+    scene: &SceneRef<'_, KT::Prim, KS::Prim>,
+    rays: &RayLanes<L>,
+    mask: u32,
+    filter: &mut F,
+    ray_base: u32,
+    best: &mut PacketBest<L>,
+) {
     let leaf = Instances::<L, KT, KS> { scene, mask };
     if scene.instances().len() == 1 {
         // As in `scene_single`.
-        leaf.packet_instance::<F, ANY>(0, rays, rays.active, &mut best, filter, ray_base);
-        return best;
+        leaf.packet_instance::<F, ANY>(0, rays, rays.active, best, filter, ray_base);
+        return;
     }
     let br = BoxRay::with_slack(rays, scene.origin_slack());
     if br.valid.none() {
-        return best;
+        return;
     }
     packet_walk::<L, _, F, ANY>(
         scene.top().nodes(),
@@ -344,7 +364,7 @@ fn walk_packet<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: 
         &(),
         rays,
         &br,
-        &mut best,
+        best,
         filter,
         ray_base,
     );
@@ -353,9 +373,8 @@ fn walk_packet<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: 
         if live.none() {
             break;
         }
-        leaf.packet_instance::<F, ANY>(inst, rays, live, &mut best, filter, ray_base);
+        leaf.packet_instance::<F, ANY>(inst, rays, live, best, filter, ray_base);
     }
-    best
 }
 
 /// The queries of a scene ([`SceneRef`]): closest hit and occlusion of one ray, a packet or a
@@ -507,7 +526,7 @@ impl<T: octoray_core::prim::Primitive, S: octoray_core::prim::Primitive> Trace<T
         mask: u32,
         filter: &mut F,
     ) -> Option<Hit> {
-        scene_single::<L, KT, KS, F, false>(*self, ray, mask, filter, 0)
+        scene_single::<L, KT, KS, F, false>(self, ray, mask, filter, 0)
             .1
             .map(|b| b.hit())
     }
@@ -531,7 +550,7 @@ impl<T: octoray_core::prim::Primitive, S: octoray_core::prim::Primitive> Trace<T
         mask: u32,
         filter: &mut F,
     ) -> bool {
-        scene_single::<L, KT, KS, F, true>(*self, ray, mask, filter, 0).0
+        scene_single::<L, KT, KS, F, true>(self, ray, mask, filter, 0).0
     }
 
     fn closest_packet<L: Lanes, KT: Kernel<L, Prim = T>, KS: Kernel<L, Prim = S>>(
@@ -554,7 +573,7 @@ impl<T: octoray_core::prim::Primitive, S: octoray_core::prim::Primitive> Trace<T
         filter: &mut F,
     ) -> ClosestHit<L> {
         packet_result(&scene_packet::<L, KT, KS, F, false>(
-            *self, rays, mask, filter, 0,
+            self, rays, mask, filter, 0,
         ))
     }
 
@@ -577,7 +596,7 @@ impl<T: octoray_core::prim::Primitive, S: octoray_core::prim::Primitive> Trace<T
         mask: u32,
         filter: &mut F,
     ) -> L::Mask {
-        scene_packet::<L, KT, KS, F, true>(*self, rays, mask, filter, 0).mask
+        scene_packet::<L, KT, KS, F, true>(self, rays, mask, filter, 0).mask
     }
 
     #[track_caller]
@@ -592,8 +611,8 @@ impl<T: octoray_core::prim::Primitive, S: octoray_core::prim::Primitive> Trace<T
             rays,
             out,
             filter,
-            |r, f, base| scene_packet::<L, KT, KS, F, false>(*self, r, mask, f, base),
-            |r, f, id| scene_single::<L, KT, KS, F, false>(*self, r, mask, f, id).1,
+            |r, f, base| scene_packet::<L, KT, KS, F, false>(self, r, mask, f, base),
+            |r, f, id| scene_single::<L, KT, KS, F, false>(self, r, mask, f, id).1,
         );
     }
 
@@ -609,8 +628,8 @@ impl<T: octoray_core::prim::Primitive, S: octoray_core::prim::Primitive> Trace<T
             rays,
             out,
             filter,
-            |r, f, base| scene_packet::<L, KT, KS, F, true>(*self, r, mask, f, base).mask,
-            |r, f, id| scene_single::<L, KT, KS, F, true>(*self, r, mask, f, id).0,
+            |r, f, base| scene_packet::<L, KT, KS, F, true>(self, r, mask, f, base).mask,
+            |r, f, id| scene_single::<L, KT, KS, F, true>(self, r, mask, f, id).0,
         );
     }
 }

@@ -1,5 +1,8 @@
-//! Rays against a scene: the walks of a [`Bvh8Ref`], generic over the kernel tier `K` and the
-//! lane width `L`.
+//! Rays against a scene: the walks of one tree (a [`Bvh8Ref`], the free functions here, generic
+//! over the kernel tier `K` and the lane width `L`) and of a renderer's scene of geometries and
+//! instances ([`SceneRef`] through [`Trace`]: the same walks on two levels, triangles and
+//! spheres in one query, masks, and the geometry and instance in every hit; its contract is
+//! [`octoray_core::scene`]'s).
 //!
 //! | call | rays | how |
 //! |---|---|---|

@@ -49,9 +49,10 @@ pub(super) trait Leaf<L: Lanes> {
 }
 
 /// A tree's leaves: primitives tested with kernel `K`, hits reported for instance `inst` (and
-/// geometry `geom` when the tree holds one; a tree of several geometries finds each hit's in
-/// `members` and counts it only where that geometry's mask shares a bit with `mask`).
-pub(super) struct Prims<'a, L: Lanes, K: Kernel<L>> {
+/// geometry `geom` when the tree holds one; with `MANY`, a tree of several geometries, each
+/// hit's is found in `members` and counts only where that geometry's mask shares a bit with
+/// `mask`: a separate instantiation, so a tree of one geometry pays nothing for it).
+pub(super) struct Prims<'a, L: Lanes, K: Kernel<L>, const MANY: bool> {
     pub bvh: Bvh8Ref<'a, K::Prim>,
     pub geom: u32,
     pub inst: u32,
@@ -95,14 +96,14 @@ impl Members<'_> {
     }
 }
 
-impl<L: Lanes, K: Kernel<L>> Prims<'_, L, K> {
+impl<L: Lanes, K: Kernel<L>, const MANY: bool> Prims<'_, L, K, MANY> {
     /// Geometry and primitive of the tree's primitive `id` for a walk with filter `F`, or
     /// `None` where the geometry's mask keeps its hits out; `(UNPLACED, id)` when that is left
     /// until the walk is done (no filter, every member admitted).
     #[inline(always)]
     fn place<F: HitFilter>(&self, id: u32) -> Option<(u32, u32)> {
         let m = &self.members;
-        if m.members.is_empty() {
+        if !MANY {
             return Some((self.geom, id));
         }
         if F::ACCEPTS_ALL && m.all_admitted {
@@ -112,7 +113,7 @@ impl<L: Lanes, K: Kernel<L>> Prims<'_, L, K> {
     }
 }
 
-impl<L: Lanes, K: Kernel<L>> Leaf<L> for Prims<'_, L, K> {
+impl<L: Lanes, K: Kernel<L>, const MANY: bool> Leaf<L> for Prims<'_, L, K, MANY> {
     type Pre = K::Pre;
 
     #[inline(always)]
@@ -148,7 +149,7 @@ impl<L: Lanes, K: Kernel<L>> Leaf<L> for Prims<'_, L, K> {
                 let rows = BlockRows::new::<K::Prim>(block, sub);
                 let h = K::intersect_words(&ray, pre, &rows);
                 let mut bits = h.mask.bitmask();
-                if ANY && F::ACCEPTS_ALL && bits != 0 && self.members.all_admitted {
+                if ANY && F::ACCEPTS_ALL && bits != 0 && (!MANY || self.members.all_admitted) {
                     return true;
                 }
                 while bits != 0 {
@@ -255,6 +256,7 @@ impl<L: Lanes, K: Kernel<L>> Leaf<L> for Prims<'_, L, K> {
             best.id = L::select_index(m, L::splat_index(id), best.id);
             best.prim = L::select_index(m, L::splat_index(local), best.prim);
             best.geom = L::select_index(m, L::splat_index(geom), best.geom);
+            best.unplaced |= geom == UNPLACED && m.any();
             best.inst = L::select_index(m, L::splat_index(self.inst), best.inst);
             if ANY {
                 ray.active = ray.active & !best.mask;
@@ -471,7 +473,13 @@ fn exchange(keys: &mut [f32; 4], slots: &mut [u8; 4], a: usize, b: usize) {
 /// the root, `best` carried in and out: prepares the ray for [`trace_single`].
 #[allow(clippy::too_many_arguments)] // the walk's state
 #[inline(always)]
-pub(super) fn run_single<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
+pub(super) fn run_single<
+    L: Lanes,
+    K: Kernel<L>,
+    F: HitFilter,
+    const ANY: bool,
+    const MANY: bool,
+>(
     bvh: Bvh8Ref<'_, K::Prim>,
     (geom, inst, members): (u32, u32, Members<'_>),
     ray: &Ray,
@@ -487,7 +495,7 @@ pub(super) fn run_single<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
     if br.valid.none() {
         return false;
     }
-    let leaf = Prims::<L, K> {
+    let leaf = Prims::<L, K, MANY> {
         bvh,
         geom,
         inst,
@@ -514,7 +522,14 @@ fn single<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
     ray_id: u32,
 ) -> (bool, Option<Best<L::Scalar>>) {
     let mut best = None;
-    let any = run_single::<L, K, F, ANY>(bvh, (0, 0, Members::ONE), ray, &mut best, filter, ray_id);
+    let any = run_single::<L, K, F, ANY, false>(
+        bvh,
+        (0, 0, Members::ONE),
+        ray,
+        &mut best,
+        filter,
+        ray_id,
+    );
     (any, best)
 }
 
@@ -718,7 +733,13 @@ pub(super) fn packet_walk<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
 /// A packet through geometry `bvh` (hits reported as geometry `geom` of instance `inst`) from
 /// the root, `best` carried in and out.
 #[inline(always)]
-pub(super) fn run_packet<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
+pub(super) fn run_packet<
+    L: Lanes,
+    K: Kernel<L>,
+    F: HitFilter,
+    const ANY: bool,
+    const MANY: bool,
+>(
     bvh: Bvh8Ref<'_, K::Prim>,
     (geom, inst, members): (u32, u32, Members<'_>),
     rays: &RayLanes<L>,
@@ -733,7 +754,7 @@ pub(super) fn run_packet<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
     if br.valid.none() {
         return;
     }
-    let leaf = Prims::<L, K> {
+    let leaf = Prims::<L, K, MANY> {
         bvh,
         geom,
         inst,
@@ -759,7 +780,7 @@ fn packet<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
     ray_base: u32,
 ) -> PacketBest<L> {
     let mut best = PacketBest::new(rays.t_max);
-    run_packet::<L, K, F, ANY>(bvh, (0, 0, Members::ONE), rays, &mut best, filter, ray_base);
+    run_packet::<L, K, F, ANY, false>(bvh, (0, 0, Members::ONE), rays, &mut best, filter, ray_base);
     best
 }
 
