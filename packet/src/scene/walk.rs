@@ -303,6 +303,7 @@ fn f32_bound<S: Scalar>(t: S) -> f32 {
 /// stack round trip and the others are pushed farthest first; occlusion needs no order and
 /// pushes them as they come (the order affects speed only, never the answer).
 #[allow(clippy::too_many_arguments)] // the walk's state, passed down once per ray
+#[inline(always)]
 pub(super) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
     nodes: &[Bvh8Node],
     leaf: &T,
@@ -455,6 +456,24 @@ pub(super) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
         cur = stack.pop();
     }
     false
+}
+
+/// [`trace_single`] as a call of its own: the packet walk's switch to single rays, which would
+/// otherwise inline the whole single-ray walk into the packet walk's loop.
+#[allow(clippy::too_many_arguments)] // as `trace_single`
+#[inline(never)]
+fn trace_single_outlined<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
+    nodes: &[Bvh8Node],
+    leaf: &T,
+    pre: &T::Pre,
+    rl: &RayLanes<L>,
+    br: &BoxRay<f32x8>,
+    start: (u32, u32),
+    best: &mut Option<Best<L::Scalar>>,
+    filter: &mut F,
+    ray_id: u32,
+) -> bool {
+    trace_single::<L, T, F, ANY>(nodes, leaf, pre, rl, br, start, best, filter, ray_id)
 }
 
 /// Puts the smaller of `keys[a]`, `keys[b]` at `a` and the larger at `b`, their slots with them,
@@ -635,7 +654,7 @@ pub(super) fn packet_walk<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
                 let lane_br =
                     BoxRay::with_slack(&RayLanes::<f32x8>::broadcast(&rays.ray(i)), br.slack);
                 let mut one = best.lane(i);
-                let hit = trace_single::<L, T, F, ANY>(
+                let hit = trace_single_outlined::<L, T, F, ANY>(
                     nodes,
                     leaf,
                     &leaf.prepare(&rl),
