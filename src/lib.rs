@@ -62,6 +62,6 @@ pub mod parallel {
 }
 
 /// The README's code blocks, compiled and run as doctests.
-#[cfg(all(doctest, feature = "triangle"))]
+#[cfg(all(doctest, feature = "triangle", feature = "sphere", feature = "alloc"))]
 #[doc = include_str!("../README.md")]
 struct ReadmeDoctests;

@@ -122,7 +122,7 @@ impl Transform {
     /// The world box of an instance whose object box is `obj`: a box that holds every world
     /// point `q` whose transformed ray's hit lies in `obj` — `A⁻¹(obj − b)`, grown by what the
     /// ray's rounding into object space can move a hit (the part that grows with the ray's
-    /// origin is the top level's origin slack, [`Transform::origin_slack`]). `None` when the
+    /// origin is the top level's origin slack, [`crate::scene::SceneRef::origin_slack`]). `None` when the
     /// condition number exceeds [`MAX_CONDITION`], the box is empty, or a bound is not finite:
     /// every ray visits such an instance.
     ///
