@@ -14,19 +14,22 @@ apt_install() {
   fi
 }
 
-# BVH == brute force without the heaviest proptests (emulation is slow) and, on WebAssembly,
-# without the thread-pool tests (wasm32-wasip1 has no threads).
-BVH_SLICE=(bvh_equals_brute_force_on_triangle_scenes bvh_equals_brute_force_on_sphere_scenes
-  filtered_walks ties_go_to crack_suite build_is_deterministic empty_and_unhittable
-  refit_rejects)
+# The slice, as test-name filters on the one integration-test binary (tests/suite): whole
+# modules, and BVH == brute force without the heaviest proptests (emulation is slow) and, on
+# WebAssembly, without the thread-pool tests (wasm32-wasip1 has no threads).
+SLICE=(determinism:: golden:: exact:: queries:: box_test:: packet_bits::
+  bvh::bvh_equals_brute_force_on_triangle_scenes bvh::bvh_equals_brute_force_on_sphere_scenes
+  bvh::filtered_walks bvh::ties_go_to bvh::crack_suite bvh::build_is_deterministic
+  bvh::empty_and_unhittable bvh::refit_rejects)
 
 echo "== aarch64 (NEON) under QEMU user mode"
 have qemu-aarch64 && have aarch64-linux-gnu-gcc || apt_install qemu-user gcc-aarch64-linux-gnu libc6-dev-arm64-cross
 if have qemu-aarch64 && have aarch64-linux-gnu-gcc && rustup target add aarch64-unknown-linux-gnu >/dev/null 2>&1; then
   T=(--target aarch64-unknown-linux-gnu)
   export CARGO_TARGET_DIR=target/cross
-  cargo test "${T[@]}" --test determinism --test golden --test exact --test queries --test box_test --test packet_bits
-  cargo test "${T[@]}" --test bvh -- "${BVH_SLICE[@]}"
+  # Only the slice's modules of tests/suite are compiled (RUSTFLAGS applies to the target only).
+  export RUSTFLAGS="--cfg octoray_isa_slice"
+  cargo test "${T[@]}" --test suite -- "${SLICE[@]}"
   echo "ok: aarch64 slice passed (digest equal to x86-64's)"
 else
   echo "skipped: aarch64 (qemu-user or the aarch64 linker could not be installed here)"
@@ -37,8 +40,9 @@ have node || apt_install nodejs
 if have node && node -e "require('node:wasi')" >/dev/null 2>&1 && rustup target add wasm32-wasip1 >/dev/null 2>&1; then
   T=(--target wasm32-wasip1)
   export CARGO_TARGET_DIR=target/cross
-  cargo test "${T[@]}" --test determinism --test golden --test exact --test queries --test box_test --test packet_bits
-  cargo test "${T[@]}" --test bvh -- "${BVH_SLICE[@]}"
+  # RUSTFLAGS replaces the config's target flags: simd128 restated.
+  export RUSTFLAGS="-C target-feature=+simd128 --cfg octoray_isa_slice"
+  cargo test "${T[@]}" --test suite -- "${SLICE[@]}"
   echo "ok: wasm32-wasip1 slice passed (digest equal to x86-64's)"
 else
   echo "skipped: wasm32-wasip1 (no Node with node:wasi could be installed here)"

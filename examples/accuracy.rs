@@ -66,7 +66,7 @@ fn outcome(h: Option<octoray::hit::Hit>) -> String {
 }
 
 fn extremes() {
-    println!("\n### Extreme cases (each a named test in tests/extremes.rs)\n");
+    println!("\n### Extreme cases (each a named test in tests/suite/extremes.rs)\n");
     print!("| case |");
     for t in TriTier::ALL {
         print!(" {} |", t.name());

@@ -1,7 +1,7 @@
-//! The demo's command line and scene loading (shared with `tests/render.rs`).
+//! The demo's command line and scene loading (shared with `tests/suite/render.rs`).
 #![allow(dead_code)]
 
-use crate::scene::{Scene, TierArg};
+use super::scene::{Scene, TierArg};
 use octoray::glam::Vec3;
 use std::path::PathBuf;
 

@@ -1,5 +1,5 @@
 //! The demo's embedded scene and its packet tracer, shared by `examples/render` and
-//! `tests/render.rs`.
+//! `tests/suite/render.rs`.
 #![allow(dead_code)]
 
 use octoray::glam::{Affine3A, DVec3, Quat, Vec3};

@@ -1,4 +1,4 @@
-//! The accuracy harness shared by `tests/accuracy.rs` and `examples/accuracy.rs`: tiers, case
+//! The accuracy harness shared by `tests/suite/accuracy.rs` and `examples/accuracy.rs`: tiers, case
 //! sets, per-case error margins, and statistics against the exact oracle.
 
 use crate::oracle::{self, SphereTruth};

@@ -166,7 +166,7 @@ pub struct CrackRow {
     pub escapes: Escapes,
 }
 
-/// The crack suite of `tests/watertight.rs` and the accuracy report: an icosphere (1280
+/// The crack suite of `tests/suite/watertight.rs` and the accuracy report: an icosphere (1280
 /// triangles) and a cube grid (768) centred at 0, 1e2, 1e4 and 1e6, `rays_per_mesh` rays from
 /// inside each.
 pub fn crack_suite(rays_per_mesh: usize) -> Vec<CrackRow> {

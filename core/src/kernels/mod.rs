@@ -52,7 +52,7 @@ pub trait Kernel<L: Lanes> {
     ///
     /// A kernel with `EXACT_T_MAX = false` keeps every hit it reports at `t` for every
     /// `t_max ≥ t·(1 + 2⁻²⁰) + 2⁻¹²⁶`, with the same `t`, `u`, `v`: the queries and the BVH lower
-    /// `t_max` to that bound of the running best (proptested in `tests/queries.rs`).
+    /// `t_max` to that bound of the running best (proptested in `tests/suite/queries.rs`).
     const EXACT_T_MAX: bool = false;
     /// Precomputes what depends on the ray only (not on `t_min`/`t_max`).
     fn prepare(ray: &RayLanes<L>) -> Self::Pre;

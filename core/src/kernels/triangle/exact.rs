@@ -8,9 +8,9 @@
 //!   exact `t = N/D` lies in `[t_min, t_max]` (closed; an exact `t` beyond ±`f32::MAX` is a miss,
 //!   as for every tier). With culling, front faces are those with `D < 0`. Watertight by
 //!   construction: a shared edge's `w` is the exact negation for its two triangles. Tested with
-//!   the margin at zero against the big-integer oracle (`tests/exact.rs`: random, aimed at
+//!   the margin at zero against the big-integer oracle (`tests/suite/exact.rs`: random, aimed at
 //!   vertices and edges, grazing 1e-3…1e-9 rad, aspect 1e2…1e5, translated and scaled
-//!   1e-20…1e30, `t_min`/`t_max` at and one f32 step around the hit; `tests/fuzz.rs` on every
+//!   1e-20…1e30, `t_min`/`t_max` at and one f32 step around the hit; `tests/suite/fuzz.rs` on every
 //!   hostile case); in the trade report's margin column 0 (report: `exact, 8 lanes`, in margin)
 //!   where the watertight tier has 1898 (report: `watertight, 8 lanes`, in margin); zero escapes
 //!   in every crack suite.
@@ -43,7 +43,7 @@
 //! - Since `t ≤ t_max` is decided on the exact `t` and a filter lane reports the watertight
 //!   tier's rounded `t`, a hit reported at `t` can be a miss for a `t_max` just above `t` (the
 //!   exact `t` lies within the `t` bound above of the reported one; on grazing rays, a quarter
-//!   of hits in `tests/queries.rs`'s family). A ray that must reach a reported hit point takes
+//!   of hits in `tests/suite/queries.rs`'s family). A ray that must reach a reported hit point takes
 //!   `t_max` beyond `t` by that bound, or the watertight tier, which keeps such hits.
 //!
 //! # The predicates

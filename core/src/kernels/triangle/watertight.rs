@@ -16,7 +16,7 @@
 //!   distant triangles) and, on the lanes neither certificate decides, decided with
 //!   exact arithmetic ([`crate::kernels::triangle::exact::ExactPlane`], lane by lane, rare): a
 //!   hit just in front of `t_min` is never lost, one just behind is never reported, for every
-//!   finite input (oracle-tested; the thin-triangle reproducer is in `tests/hostile.rs`).
+//!   finite input (oracle-tested; the thin-triangle reproducer is in `tests/suite/hostile.rs`).
 //!   The `t_max` side compares the rounded `t`, as the standard tier does and as closest-hit
 //!   queries order hits, so a hit reported at `t` stays a hit for every `t_max` a little above
 //!   it ([`crate::kernels::Kernel::EXACT_T_MAX`]); the exact tier ([`crate::kernels::Exact`]) decides
@@ -28,7 +28,7 @@
 //!   the determinant is within its own error bound (rays within ~1e-6 rad of the plane), `t` is
 //!   the exact `t` rounded instead, and `t ≤ t_max` is decided on it exactly.
 //! - Zero escapes over 10⁵ rays aimed at the vertices and edges of closed jittered meshes centred
-//!   at 0…1e6 (`tests/watertight.rs`); in the trade report 0.000 % (report: `watertight, 8
+//!   at 0…1e6 (`tests/suite/watertight.rs`); in the trade report 0.000 % (report: `watertight, 8
 //!   lanes`, crack rate) escape where the standard tier lets 1.540 % (report: `standard, 8
 //!   lanes`, crack rate) through.
 //! - Reads [`VertexTriangle`] (the three vertices): watertightness needs the shared vertices
@@ -38,7 +38,7 @@
 //!   ~7e12; overflow is a miss, never an inf/NaN hit. Use the f64 instantiation beyond that.
 //! - Underflow: the edge functions are products of two sheared extents; where those go subnormal
 //!   (triangles and distances below ~1e-19 from the origin's line) their computed signs can be
-//!   wrong and a hit can be missed (`tests/extremes.rs` documents 1e-30). The range and `t` no
+//!   wrong and a hit can be missed (`tests/suite/extremes.rs` documents 1e-30). The range and `t` no
 //!   longer suffer from it: lanes whose products leave `[2⁻¹⁰⁰, 2¹⁰⁰]` are decided exactly (the
 //!   fuzz harness had seen `t = 0` reported for an exact `t` of 3e-36). For such scenes use the
 //!   exact tier, which decides the edges exactly too.

@@ -3,9 +3,9 @@
 //! messages, not panics.
 #![cfg(all(feature = "triangle", feature = "sphere", feature = "alloc"))]
 
-#[path = "../examples/render/cli.rs"]
+#[path = "../../examples/render/cli.rs"]
 mod cli;
-#[path = "../examples/render/scene.rs"]
+#[path = "../../examples/render/scene.rs"]
 mod scene;
 
 use glam::Vec3;

@@ -12,8 +12,8 @@
 //!   bound); degenerate cases (for the oracle: no plane crossing) are never hits;
 //! - the BVH's answers equal brute force; spawn helpers return finite points for finite input.
 //!
-//! `cargo test --test fuzz` runs the fast slice (a few seconds); the large run is
-//! `cargo test --release --test fuzz -- --ignored` (10⁷ cases per entry point).
+//! `cargo test --test suite fuzz::` runs the fast slice (a few seconds); the large run is
+//! `cargo test --release --test suite fuzz:: -- --ignored` (10⁷ cases per entry point).
 #![cfg(all(feature = "triangle", feature = "sphere", feature = "alloc"))]
 use octoray_testkit as testkit;
 
@@ -1008,7 +1008,7 @@ fn fuzz_fast_slice() {
 }
 
 #[test]
-#[ignore = "10⁷ cases per entry point: cargo test --release --test fuzz -- --ignored --nocapture"]
+#[ignore = "10⁷ cases per entry point: cargo test --release --test suite fuzz:: -- --ignored --nocapture"]
 fn fuzz_large_run() {
     let (n, bvh) = fuzz(0x5eed_0001, 10_000_000);
     let skipped = OUT_OF_RANGE.load(std::sync::atomic::Ordering::Relaxed);

@@ -322,7 +322,7 @@ proptest! {
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(24))]
-    // Found three kernel bugs (tests/hostile.rs): a sphere hit at t = 0 from an overflowed
+    // Found three kernel bugs (tests/suite/hostile.rs): a sphere hit at t = 0 from an overflowed
     // discriminant, a standard-tier hit from subnormal products, and a watertight t_max decided
     // on a different t than the one reported.
     #[test]
@@ -379,7 +379,7 @@ fn ties_go_to_the_lower_index_like_brute_force() {
 
 #[test]
 fn crack_suite_through_the_bvh_has_no_escapes() {
-    // The closed meshes of tests/watertight.rs, traced through the BVH (packets with hybrid
+    // The closed meshes of tests/suite/watertight.rs, traced through the BVH (packets with hybrid
     // fallback): the watertight tier still lets no ray escape, and the standard tier's cracks
     // are the same ones as brute force's.
     let rows = crack_suite_with(2_500, |tris, rays| {

@@ -4,7 +4,7 @@
 //! within rounding of an edge. The contract tested here: on well-conditioned cases they agree on
 //! hit/miss whenever the exact hit point is clearly inside or clearly outside, and their `t`
 //! agree within a relative tolerance. Disagreements inside the margin are counted and printed
-//! (`cargo test --test packet_vs_textbook -- --nocapture`), not asserted.
+//! (`cargo test --test suite packet_vs_textbook -- --nocapture`), not asserted.
 //!
 //! Margin. Inputs lie in [-10, 10]³, edges are at least 0.5 long, the triangle is not skinny
 //! (|n| ≥ 0.05·|e1||e2|) and the ray meets the plane at |cos θ| ≥ 0.05. Then the f32 error of a

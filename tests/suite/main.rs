@@ -1,0 +1,40 @@
+//! The integration tests, one contract per module (tests/README.md lists them), in one binary:
+//! the generic walks and kernels they share are compiled once, not once per file.
+//! `tests/ingest_alloc.rs` stays a binary of its own: its global allocator has a limit.
+//!
+//! Built with `--cfg octoray_isa_slice` (`.ci/cross.sh`, for the emulated ISAs), only the modules
+//! of the cross-ISA slice are compiled.
+
+#[cfg(not(octoray_isa_slice))]
+mod accuracy;
+#[cfg(not(octoray_isa_slice))]
+mod architecture;
+#[cfg(not(octoray_isa_slice))]
+mod bad_input;
+mod box_test;
+mod bvh;
+mod determinism;
+mod exact;
+#[cfg(not(octoray_isa_slice))]
+mod extremes;
+#[cfg(not(octoray_isa_slice))]
+mod features;
+#[cfg(not(octoray_isa_slice))]
+mod fuzz;
+mod golden;
+#[cfg(not(octoray_isa_slice))]
+mod hostile;
+#[cfg(not(octoray_isa_slice))]
+mod ingest;
+mod packet_bits;
+#[cfg(not(octoray_isa_slice))]
+mod packet_vs_textbook;
+mod queries;
+#[cfg(not(octoray_isa_slice))]
+mod recommend;
+#[cfg(not(octoray_isa_slice))]
+mod render;
+#[cfg(not(octoray_isa_slice))]
+mod scene;
+#[cfg(not(octoray_isa_slice))]
+mod watertight;
