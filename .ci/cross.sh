@@ -22,15 +22,19 @@ SLICE=(determinism:: golden:: exact:: queries:: box_test:: packet_bits::
   bvh::filtered_walks bvh::ties_go_to bvh::crack_suite bvh::build_is_deterministic
   bvh::empty_and_unhittable bvh::refit_rejects)
 
+# slice TARGET NAME RUSTFLAGS: the slice for TARGET, built in its own target dir with only the
+# slice's modules of tests/suite (RUSTFLAGS applies to the target's artifacts only, and
+# replaces the config's flags for it).
+slice() {
+  CARGO_TARGET_DIR=target/cross RUSTFLAGS="$3 --cfg octoray_isa_slice" \
+    cargo test --target "$1" --test suite -- "${SLICE[@]}"
+  echo "ok: $2 slice passed (digest equal to x86-64's)"
+}
+
 echo "== aarch64 (NEON) under QEMU user mode"
 have qemu-aarch64 && have aarch64-linux-gnu-gcc || apt_install qemu-user gcc-aarch64-linux-gnu libc6-dev-arm64-cross
 if have qemu-aarch64 && have aarch64-linux-gnu-gcc && rustup target add aarch64-unknown-linux-gnu >/dev/null 2>&1; then
-  T=(--target aarch64-unknown-linux-gnu)
-  export CARGO_TARGET_DIR=target/cross
-  # Only the slice's modules of tests/suite are compiled (RUSTFLAGS applies to the target only).
-  export RUSTFLAGS="--cfg octoray_isa_slice"
-  cargo test "${T[@]}" --test suite -- "${SLICE[@]}"
-  echo "ok: aarch64 slice passed (digest equal to x86-64's)"
+  slice aarch64-unknown-linux-gnu aarch64 ""
 else
   echo "skipped: aarch64 (qemu-user or the aarch64 linker could not be installed here)"
 fi
@@ -38,12 +42,7 @@ fi
 echo "== wasm32-wasip1 (simd128) under Node's WASI"
 have node || apt_install nodejs
 if have node && node -e "require('node:wasi')" >/dev/null 2>&1 && rustup target add wasm32-wasip1 >/dev/null 2>&1; then
-  T=(--target wasm32-wasip1)
-  export CARGO_TARGET_DIR=target/cross
-  # RUSTFLAGS replaces the config's target flags: simd128 restated.
-  export RUSTFLAGS="-C target-feature=+simd128 --cfg octoray_isa_slice"
-  cargo test "${T[@]}" --test suite -- "${SLICE[@]}"
-  echo "ok: wasm32-wasip1 slice passed (digest equal to x86-64's)"
+  slice wasm32-wasip1 wasm32-wasip1 "-C target-feature=+simd128"
 else
   echo "skipped: wasm32-wasip1 (no Node with node:wasi could be installed here)"
 fi

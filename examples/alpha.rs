@@ -42,16 +42,7 @@ fn main() {
         let mut r = ray;
         let again = loop {
             let h = closest_ray::<f32x8, Watertight>(b, &r).expect("the wall");
-            let c = Candidate {
-                prim: h.prim,
-                t: h.t,
-                u: h.u,
-                v: h.v,
-                geom: 0,
-                inst: 0,
-                ray: 0,
-            };
-            if opaque(&c) {
+            if opaque(&Candidate::from_hit(&h, 0)) {
                 break h;
             }
             restarts += 1;

@@ -11,10 +11,10 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use octoray::bvh::{Bvh8, Bvh8Ref, MAX_DEPTH};
 use octoray::glam::Vec3;
-use octoray::hit::Candidate;
 use octoray::kernels::Watertight;
 use octoray::prim::{Ray, VertexTriangle};
-use octoray::scene::{closest_ray, closest_ray_with};
+use octoray::scene::closest_ray_with;
+use octoray_benches::instancing::{alpha, restart_closest};
 use octoray_benches::scenes::{
     jittered_sphere, packets_closest, singles_any, singles_closest, sponza, SceneSet,
 };
@@ -131,36 +131,11 @@ fn scene(c: &mut Criterion, s: &SceneSet) {
         b.iter(|| {
             primary
                 .iter()
-                .filter(|ray| {
-                    let mut ray = **ray;
-                    loop {
-                        let Some(h) = closest_ray::<f32x8, Watertight>(r, &ray) else {
-                            return false;
-                        };
-                        let c = Candidate {
-                            prim: h.prim,
-                            t: h.t,
-                            u: h.u,
-                            v: h.v,
-                            geom: 0,
-                            inst: 0,
-                            ray: 0,
-                        };
-                        if alpha(&c) {
-                            return true;
-                        }
-                        ray.t_min = h.t.next_up();
-                    }
-                })
+                .filter(|ray| restart_closest(r, ray, alpha).is_some())
                 .count()
         })
     });
     g.finish();
-}
-
-/// The alpha mask of the alpha benchmark.
-fn alpha(c: &Candidate) -> bool {
-    c.prim % 2 == 1 || ((c.u * 6.0) as i32 + (c.v * 6.0) as i32) % 2 == 0
 }
 
 /// Validation of crafted trees: the exponential shared chain (64 nodes, 16 KiB, rejected) and the

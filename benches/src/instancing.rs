@@ -4,11 +4,12 @@
 
 use crate::scenes::SceneSet;
 use glam::{Affine3A, Quat, Vec3};
-use octoray::hit::Candidate;
+use octoray::bvh::Bvh8Ref;
+use octoray::hit::{Candidate, Hit};
 use octoray::kernels::{StableSphere, Watertight};
 use octoray::lanes::LaneMask;
 use octoray::prim::{PackedSphere, Ray, RayLanes, VertexTriangle};
-use octoray::scene::{Scene, SceneRef, Trace, Transform};
+use octoray::scene::{closest_ray, Scene, SceneRef, Trace, Transform};
 use octoray_testkit::camera::Pinhole;
 use wide::f32x8;
 
@@ -16,6 +17,23 @@ use wide::f32x8;
 /// barycentrics.
 pub fn alpha(c: &Candidate) -> bool {
     c.prim % 2 == 1 || ((c.u * 6.0) as i32 + (c.v * 6.0) as i32) % 2 == 0
+}
+
+/// The closest hit `keep` accepts, without a filter: the restart loop a renderer writes when its
+/// library has none (trace, and on a rejected hit trace again from just past it).
+pub fn restart_closest(
+    tree: Bvh8Ref<'_, VertexTriangle>,
+    ray: &Ray,
+    keep: impl Fn(&Candidate) -> bool,
+) -> Option<Hit> {
+    let mut ray = *ray;
+    loop {
+        let h = closest_ray::<f32x8, Watertight>(tree, &ray)?;
+        if keep(&Candidate::from_hit(&h, 0)) {
+            return Some(h);
+        }
+        ray.t_min = h.t.next_up();
+    }
 }
 
 /// How a file's meshes go into a scene.

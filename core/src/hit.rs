@@ -43,6 +43,22 @@ pub struct Candidate {
     pub ray: u32,
 }
 
+impl Candidate {
+    /// The candidate a filter sees for `hit` of ray `ray` (the same fields, and which ray).
+    #[inline(always)]
+    pub fn from_hit(hit: &Hit, ray: u32) -> Self {
+        Self {
+            prim: hit.prim,
+            geom: hit.geom,
+            inst: hit.inst,
+            t: hit.t,
+            u: hit.u,
+            v: hit.v,
+            ray,
+        }
+    }
+}
+
 /// Caller code that accepts or rejects candidate hits (alpha testing, decals, shadow catchers):
 /// a closure `FnMut(&Candidate) -> bool`, or [`AcceptAll`] (the walks without a filter, at no
 /// cost: its checks are compiled out).

@@ -703,20 +703,12 @@ fn filtered_brute<K: Kernel<f32>>(ray: &Ray, prims: &[K::Prim]) -> Option<Hit> {
         let Some(h) = octoray::intersect::<f32, K>(ray, p) else {
             continue;
         };
-        let c = Candidate {
+        let h = Hit {
             prim: k as u32,
-            t: h.t,
-            u: h.u,
-            v: h.v,
-            geom: 0,
-            inst: 0,
-            ray: 0,
+            ..h
         };
-        if alpha(&c) && best.is_none_or(|b| h.t < b.t) {
-            best = Some(Hit {
-                prim: k as u32,
-                ..h
-            });
+        if alpha(&Candidate::from_hit(&h, 0)) && best.is_none_or(|b| h.t < b.t) {
+            best = Some(h);
         }
     }
     best

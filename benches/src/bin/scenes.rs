@@ -8,15 +8,14 @@
 //! without the scene-model and instancing sections).
 
 use octoray::bvh::{Bvh8, Bvh8Ref};
-use octoray::hit::Candidate;
 use octoray::kernels::{MollerTrumbore, Watertight};
 use octoray::lanes::LaneMask;
 use octoray::prim::{PackedTriangle, RayLanes, VertexTriangle};
-use octoray::scene::{closest_packet_with, closest_ray, closest_ray_with};
+use octoray::scene::{closest_packet_with, closest_ray_with};
 use octoray_benches::embree::EmbreeScene;
 use octoray_benches::instancing::{
-    alpha, field, flatten, instanced, scene_of, scene_packets_closest, scene_singles_any,
-    scene_singles_closest, wave, Layout,
+    alpha, field, flatten, instanced, restart_closest, scene_of, scene_packets_closest,
+    scene_singles_any, scene_singles_closest, wave, Layout,
 };
 use octoray_benches::scene_peers::{BvhScene, ObvhsScene};
 use octoray_benches::scenes::{
@@ -643,27 +642,7 @@ fn scene_model_report(s: &SceneSet, runs: usize, md: &mut String) {
     });
     let (re, hr) = rate(runs, p8.len(), &mut || {
         p8.iter()
-            .filter(|ray| {
-                let mut ray = **ray;
-                loop {
-                    let Some(h) = closest_ray::<f32x8, Watertight>(tr, &ray) else {
-                        return false;
-                    };
-                    let c = Candidate {
-                        prim: h.prim,
-                        t: h.t,
-                        u: h.u,
-                        v: h.v,
-                        geom: 0,
-                        inst: 0,
-                        ray: 0,
-                    };
-                    if alpha(&c) {
-                        return true;
-                    }
-                    ray.t_min = h.t.next_up();
-                }
-            })
+            .filter(|ray| restart_closest(tr, ray, alpha).is_some())
             .count() as u64
     });
     let (pf, _) = rate(runs, p8.len(), &mut || {

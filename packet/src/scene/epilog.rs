@@ -2,7 +2,7 @@
 //! update, for single rays and packets alike.
 
 use super::slab::loosen;
-use octoray_core::hit::{Candidate, Hit, HitFilter};
+use octoray_core::hit::{Candidate, Hit, HitFilter, LanesHit};
 use octoray_core::lanes::{LaneMask, Lanes, Scalar};
 
 /// A hit of one ray (the best so far, or a candidate): barycentric numerators over `scale`,
@@ -22,6 +22,27 @@ pub(super) struct Best<S> {
 }
 
 impl<S: Scalar> Best<S> {
+    /// Lane `i` of a kernel's answer `h`, as the hit on tree primitive `id` (primitive `prim` of
+    /// geometry `geom`) of instance `inst`.
+    #[inline(always)]
+    pub fn lane<L: Lanes<Scalar = S>>(
+        h: &LanesHit<L>,
+        i: usize,
+        id: u32,
+        (prim, geom, inst): (u32, u32, u32),
+    ) -> Self {
+        Self {
+            t: h.t.lane(i),
+            u: h.u.lane(i),
+            v: h.v.lane(i),
+            scale: h.scale.lane(i),
+            id,
+            prim,
+            geom,
+            inst,
+        }
+    }
+
     /// The hit as reported.
     #[inline(always)]
     pub fn hit(&self) -> Hit {
@@ -68,18 +89,7 @@ pub(super) fn bound<S: Scalar>(t_max: S, best: &Option<Best<S>>) -> S {
 /// Does `filter` accept `hit` for ray `ray`? It sees the values [`Best::hit`] would report.
 #[inline(always)]
 pub(super) fn accepts<S: Scalar, F: HitFilter>(filter: &mut F, hit: &Best<S>, ray: u32) -> bool {
-    F::ACCEPTS_ALL || {
-        let h = hit.hit();
-        filter.accept(&Candidate {
-            prim: h.prim,
-            t: h.t,
-            u: h.u,
-            v: h.v,
-            geom: h.geom,
-            inst: h.inst,
-            ray,
-        })
-    }
+    F::ACCEPTS_ALL || filter.accept(&Candidate::from_hit(&hit.hit(), ray))
 }
 
 /// Per-lane state of a packet walk: the best hits, and the `t` bound of its box tests.

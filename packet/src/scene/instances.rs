@@ -8,6 +8,7 @@ use super::walk::{
     trace_single, Leaf, Members, UNPLACED,
 };
 use arrayvec::ArrayVec;
+use octoray_core::bvh::Bvh8Ref;
 use octoray_core::hit::{AcceptAll, Hit, HitFilter};
 use octoray_core::kernels::Kernel;
 use octoray_core::lanes::{LaneMask, Lanes, MAX_LANES};
@@ -86,21 +87,16 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'_, '_, L, KT, KS> {
             return false;
         };
         let ray = i.transform.apply(world);
-        let many = !place.2.members.is_empty();
-        match (tree, many) {
-            (TreeRef::Triangles(b, _), false) => {
-                run_single::<L, KT, F, ANY, false>(b, place, &ray, best, filter, ray_id)
-            }
-            (TreeRef::Triangles(b, _), true) => {
-                run_single::<L, KT, F, ANY, true>(b, place, &ray, best, filter, ray_id)
-            }
-            (TreeRef::Spheres(b, _), false) => {
-                run_single::<L, KS, F, ANY, false>(b, place, &ray, best, filter, ray_id)
-            }
-            (TreeRef::Spheres(b, _), true) => {
-                run_single::<L, KS, F, ANY, true>(b, place, &ray, best, filter, ray_id)
-            }
-        }
+        visit::<L, KT, KS, _>(
+            tree,
+            place,
+            SingleWalk::<L, F, ANY> {
+                ray: &ray,
+                best,
+                filter,
+                ray_id,
+            },
+        )
     }
 
     /// The lanes `live` of a world packet through instance `inst`.
@@ -132,21 +128,93 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'_, '_, L, KT, KS> {
                 ..RayLanes::<L>::load(&lanes)
             }
         };
-        let many = !place.2.members.is_empty();
-        match (tree, many) {
-            (TreeRef::Triangles(b, _), false) => {
-                run_packet::<L, KT, F, ANY, false>(b, place, &rays, best, filter, ray_base)
-            }
-            (TreeRef::Triangles(b, _), true) => {
-                run_packet::<L, KT, F, ANY, true>(b, place, &rays, best, filter, ray_base)
-            }
-            (TreeRef::Spheres(b, _), false) => {
-                run_packet::<L, KS, F, ANY, false>(b, place, &rays, best, filter, ray_base)
-            }
-            (TreeRef::Spheres(b, _), true) => {
-                run_packet::<L, KS, F, ANY, true>(b, place, &rays, best, filter, ray_base)
-            }
-        }
+        visit::<L, KT, KS, _>(
+            tree,
+            place,
+            PacketWalk::<L, F, ANY> {
+                rays: &rays,
+                best,
+                filter,
+                ray_base,
+            },
+        );
+    }
+}
+
+/// A walk of one instance's tree from its root, at the kernel of the tree's kind and with or
+/// without the per-hit member lookup of a tree of several geometries ([`visit`] picks them).
+trait TreeWalk<L: Lanes> {
+    /// What the walk answers.
+    type Out;
+    /// Walks `bvh`, its hits reported as `place` says.
+    fn walk<K: Kernel<L>, const MANY: bool>(
+        self,
+        bvh: Bvh8Ref<'_, K::Prim>,
+        place: (u32, u32, Members<'_>),
+    ) -> Self::Out;
+}
+
+/// `w` through `tree`: triangles with `KT`, spheres with `KS`, the member lookup only in a tree
+/// of several geometries.
+#[inline(always)]
+fn visit<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, W: TreeWalk<L>>(
+    tree: TreeRef<'_, KT::Prim, KS::Prim>,
+    place: (u32, u32, Members<'_>),
+    w: W,
+) -> W::Out {
+    let many = !place.2.members.is_empty();
+    match (tree, many) {
+        (TreeRef::Triangles(b, _), false) => w.walk::<KT, false>(b, place),
+        (TreeRef::Triangles(b, _), true) => w.walk::<KT, true>(b, place),
+        (TreeRef::Spheres(b, _), false) => w.walk::<KS, false>(b, place),
+        (TreeRef::Spheres(b, _), true) => w.walk::<KS, true>(b, place),
+    }
+}
+
+/// One ray through a tree ([`run_single`]).
+struct SingleWalk<'r, L: Lanes, F, const ANY: bool> {
+    ray: &'r Ray,
+    best: &'r mut Option<Best<L::Scalar>>,
+    filter: &'r mut F,
+    ray_id: u32,
+}
+
+impl<L: Lanes, F: HitFilter, const ANY: bool> TreeWalk<L> for SingleWalk<'_, L, F, ANY> {
+    type Out = bool;
+    #[inline(always)]
+    fn walk<K: Kernel<L>, const MANY: bool>(
+        self,
+        bvh: Bvh8Ref<'_, K::Prim>,
+        place: (u32, u32, Members<'_>),
+    ) -> bool {
+        run_single::<L, K, F, ANY, MANY>(bvh, place, self.ray, self.best, self.filter, self.ray_id)
+    }
+}
+
+/// A packet through a tree ([`run_packet`]).
+struct PacketWalk<'r, L: Lanes, F, const ANY: bool> {
+    rays: &'r RayLanes<L>,
+    best: &'r mut PacketBest<L>,
+    filter: &'r mut F,
+    ray_base: u32,
+}
+
+impl<L: Lanes, F: HitFilter, const ANY: bool> TreeWalk<L> for PacketWalk<'_, L, F, ANY> {
+    type Out = ();
+    #[inline(always)]
+    fn walk<K: Kernel<L>, const MANY: bool>(
+        self,
+        bvh: Bvh8Ref<'_, K::Prim>,
+        place: (u32, u32, Members<'_>),
+    ) {
+        run_packet::<L, K, F, ANY, MANY>(
+            bvh,
+            place,
+            self.rays,
+            self.best,
+            self.filter,
+            self.ray_base,
+        );
     }
 }
 

@@ -159,16 +159,7 @@ impl<L: Lanes, K: Kernel<L>, const MANY: bool> Leaf<L> for Prims<'_, L, K, MANY>
                     let Some((geom, prim)) = self.place::<F>(id) else {
                         continue;
                     };
-                    let hit = Best {
-                        t: h.t.lane(i),
-                        u: h.u.lane(i),
-                        v: h.v.lane(i),
-                        scale: h.scale.lane(i),
-                        id,
-                        prim,
-                        geom,
-                        inst: self.inst,
-                    };
+                    let hit = Best::lane(&h, i, id, (prim, geom, self.inst));
                     if (ANY || better(hit.t, hit.inst, hit.id, best))
                         && accepts(filter, &hit, ray_id)
                     {
@@ -232,16 +223,7 @@ impl<L: Lanes, K: Kernel<L>, const MANY: bool> Leaf<L> for Prims<'_, L, K, MANY>
                 while mb != 0 {
                     let i = mb.trailing_zeros() as usize;
                     mb &= mb - 1;
-                    let hit = Best {
-                        t: h.t.lane(i),
-                        u: h.u.lane(i),
-                        v: h.v.lane(i),
-                        scale: h.scale.lane(i),
-                        id,
-                        prim: local,
-                        geom,
-                        inst: self.inst,
-                    };
+                    let hit = Best::lane(&h, i, id, (local, geom, self.inst));
                     if accepts(filter, &hit, ray_base + i as u32) {
                         keep |= 1 << i;
                     }
