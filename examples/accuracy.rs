@@ -40,6 +40,51 @@ fn header(title: &str) {
     println!("|---|---|---|---|---|---|---|---|---|");
 }
 
+/// Where the hit points lie: off the triangle's plane, in f32 steps at the point (the error a
+/// spawned ray inherits), on good triangles and on long thin ones.
+fn plane(n: usize) {
+    println!("\n### Hit points off the plane\n");
+    println!("Distance of `o + t·d` (formed exactly from the reported t) from the exact plane, in f32 steps at the point's largest coordinate, p50 / p99 / max; hits both the tier and the oracle report.\n");
+    print!("| cases |");
+    for t in TriTier::ALL {
+        print!(" {} |", t.name());
+    }
+    println!();
+    println!("|---|---|---|---|---|---|---|");
+    let sets: Vec<(String, Vec<TriCase>)> = vec![
+        ("random".into(), random_cases(13, n)),
+        ("thin, aspect 1e2".into(), thin_cases(14, n, 1e2)),
+        ("thin, aspect 1e3".into(), thin_cases(15, n, 1e3)),
+        ("thin, aspect 1e4".into(), thin_cases(16, n, 1e4)),
+        (
+            "short rays, axis-aligned".into(),
+            near_cases(17, n, 1.0, true),
+        ),
+        ("short rays, rotated".into(), near_cases(18, n, 1.0, false)),
+        (
+            "short rays, aspect 1e3, axis-aligned".into(),
+            near_cases(19, n, 1e3, true),
+        ),
+        (
+            "short rays, aspect 1e3, rotated".into(),
+            near_cases(20, n, 1e3, false),
+        ),
+    ];
+    for (name, cases) in &sets {
+        print!("| {name} |");
+        for tier in TriTier::ALL {
+            let s = measure_triangles(tier, cases);
+            print!(
+                " {:.1} / {:.1} / {:.1} |",
+                s.plane_percentile(0.5),
+                s.plane_percentile(0.99),
+                s.plane_percentile(1.0)
+            );
+        }
+        println!();
+    }
+}
+
 fn cracks() {
     println!("\n### Crack rate: rays from inside closed jittered meshes (icosphere 1280 tris, cube grid 768 tris)\n");
     println!("Rays aimed exactly at vertices, at edge points, at interior points and anywhere (a quarter each), 12 500 per mesh.\n");
@@ -187,6 +232,7 @@ fn main() {
             row(tier.name(), &measure_spheres(tier, cases));
         }
     }
+    plane(n);
     cracks();
     extremes();
     println!(

@@ -62,6 +62,22 @@ impl TriCase {
         let reach = ((o - a).length() + (b - a).length() + (c - a).length()) / d.length();
         t_exact.abs().max(reach) / cos
     }
+
+    /// How far the hit point `o + t·d` (formed exactly, from the reported f32 `t`) lies off the
+    /// triangle's plane, in f32 steps at the point's largest coordinate: the error a renderer's
+    /// next ray inherits when it spawns from the point (a plane error, not a `t` error, so it is
+    /// comparable across triangles of any shape and rays of any angle).
+    pub fn plane_ulps(&self, t: f32) -> f64 {
+        let [a, b, c] = self.v.map(|v| v.as_dvec3());
+        let (o, d) = (self.ray.origin.as_dvec3(), self.ray.dir.as_dvec3());
+        let n = (b - a).cross(c - a).normalize();
+        let p = o + d * f64::from(t);
+        let off = (p - a).dot(n).abs();
+        let big = p.abs().max_element().max(f64::from(f32::MIN_POSITIVE));
+        // The f32 step at `big`: 2^(⌊log2 big⌋ − 23).
+        let step = 2f64.powi(big.log2().floor() as i32 - 23);
+        off / step
+    }
 }
 
 /// A triangle tier as measured.
@@ -141,6 +157,9 @@ pub struct Stats {
     pub ulps: Vec<u64>,
     /// |t − t_exact| / (ε · t_scale): the error relative to the problem's own scale.
     pub scaled: Vec<f64>,
+    /// Distance of the hit point off the plane in f32 steps ([`TriCase::plane_ulps`]), for hits
+    /// both agree on (empty for spheres).
+    pub plane: Vec<f64>,
 }
 
 impl Stats {
@@ -158,6 +177,15 @@ impl Stats {
     pub fn max_scaled(&self) -> f64 {
         self.scaled.iter().copied().fold(0.0, f64::max)
     }
+    /// Percentile `p` of the off-plane distances (0 when there are none).
+    pub fn plane_percentile(&self, p: f64) -> f64 {
+        if self.plane.is_empty() {
+            return 0.0;
+        }
+        let mut v = self.plane.clone();
+        v.sort_unstable_by(f64::total_cmp);
+        v[((v.len() - 1) as f64 * p).round() as usize]
+    }
     pub fn merge(&mut self, o: &Stats) {
         self.cases += o.cases;
         self.degenerate += o.degenerate;
@@ -168,6 +196,7 @@ impl Stats {
         self.behind += o.behind;
         self.ulps.extend_from_slice(&o.ulps);
         self.scaled.extend_from_slice(&o.scaled);
+        self.plane.extend_from_slice(&o.plane);
     }
 }
 
@@ -215,6 +244,7 @@ pub fn measure_triangles_with(
                 s.ulps.push(truth.t_ulps(h.t));
                 s.scaled
                     .push((f64::from(h.t) - truth.t).abs() / (EPS * c.t_scale(truth.t)));
+                s.plane.push(c.plane_ulps(h.t));
             }
         }
         if got.is_some() != truth.hit {
@@ -339,6 +369,49 @@ pub fn thin_cases(seed: u64, n: usize, aspect: f32) -> Vec<TriCase> {
             TriCase {
                 ray: Ray::new(o, target - o),
                 v,
+            }
+        })
+        .collect()
+}
+
+/// Short rays at large triangles, as a renderer's spawned rays meet walls, floors and trim:
+/// triangles with edges of 1…20 and aspect ratio `aspect` (longest edge over height; 1 for a
+/// plain triangle) placed up to 20 from the world origin (axis-aligned, as architecture is, or
+/// randomly rotated), origins 1e-4…1e-1 edge lengths off the plane above a point of the
+/// triangle, aimed at a point of the plane within a few of those heights, so `t` is far smaller
+/// than the distance to the vertices.
+pub fn near_cases(seed: u64, n: usize, aspect: f32, axis_aligned: bool) -> Vec<TriCase> {
+    let mut rng = Rng(seed);
+    (0..n)
+        .map(|_| {
+            let len = rng.range(1.0, 20.0);
+            let v = [
+                Vec3::ZERO,
+                Vec3::new(len, rng.range(-0.3, 0.3) * len / aspect, 0.0),
+                Vec3::new(rng.range(-0.3, 1.3) * len, len / aspect, 0.0),
+            ];
+            let (u, w) = (rng.range(0.05, 0.6), rng.range(0.05, 0.35));
+            let foot = point(v, u, w);
+            let h = len * 10f32.powf(rng.range(-4.0, -1.0));
+            let side = if rng.next_u64().is_multiple_of(2) { 1.0 } else { -1.0 };
+            let o = foot + Vec3::new(0.0, 0.0, side * h);
+            let target = foot + Vec3::new(rng.range(-3.0, 3.0) * h, rng.range(-3.0, 3.0) * h, 0.0);
+            let (axis, ang) = if axis_aligned {
+                // One of the axis-aligned orientations: the plane z = 0 turned onto x = 0 or y = 0.
+                match rng.next_u64() % 3 {
+                    0 => (Vec3::X, 0.0),
+                    1 => (Vec3::X, core::f32::consts::FRAC_PI_2),
+                    _ => (Vec3::Y, core::f32::consts::FRAC_PI_2),
+                }
+            } else {
+                (rng.vec3(1.0).normalize(), rng.range(0.0, 3.0))
+            };
+            let shift = rng.vec3(20.0);
+            let place = |p: Vec3| rotate(p, axis, ang) + shift;
+            let (o, target) = (place(o), place(target));
+            TriCase {
+                ray: Ray::new(o, target - o),
+                v: v.map(place),
             }
         })
         .collect()

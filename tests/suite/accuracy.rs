@@ -7,10 +7,13 @@ use octoray_testkit as testkit;
 
 use testkit::accuracy::*;
 
-/// Documented bounds on |Δt| / (ε·scale) (see each kernel's rustdoc).
+/// Documented bounds on |Δt| / (ε·scale) (see each kernel's rustdoc). The exact tier reports
+/// the plane distance evaluated in f64 and rounded once: its error is the rounding, at most
+/// ε·|t| ≤ ε·scale, plus f64 terms far below it on these cases.
 fn t_bound(tier: TriTier) -> f64 {
     match tier {
-        TriTier::Textbook | TriTier::Standard | TriTier::Watertight | TriTier::Exact => 8.0,
+        TriTier::Textbook | TriTier::Standard | TriTier::Watertight => 8.0,
+        TriTier::Exact => 1.01,
         TriTier::F64 | TriTier::F64Watertight => 2.0,
     }
 }
@@ -147,4 +150,58 @@ fn sphere_tiers_tiny_radii_and_directions_down_to_the_underflow_limit() {
     // 1e12 radii away, and t errors up to 3·10⁵ times the bound. Now √a·√(r² − |l|²).
     let s = check_spheres("tiny", &tiny_sphere_cases(131, 20_000));
     assert!(s[2].exact_hits > 2000, "{} hits", s[2].exact_hits);
+}
+
+#[test]
+fn thin_triangles_and_short_rays_put_hit_points_on_the_plane() {
+    // Long trim seen from close by and needles seen from afar: the exact tier's hit points lie
+    // within 10 f32 steps of the exact plane at the 99th percentile (the blend of depths it
+    // reported before, as the watertight tier still does, put them up to 136 steps off on
+    // axis-aligned trim: printed here, not asserted), and its t within the rounding (the scale
+    // here has no 1/sin α: the plane distance needs none); the f64 tier as well.
+    let sets = [
+        ("thin 1e3", thin_cases(140, 3000, 1e3)),
+        ("thin 1e4", thin_cases(141, 3000, 1e4)),
+        (
+            "short rays, trim, axis-aligned",
+            near_cases(142, 3000, 1e3, true),
+        ),
+        (
+            "short rays, trim, rotated",
+            near_cases(143, 3000, 1e3, false),
+        ),
+        ("short rays, rotated", near_cases(144, 3000, 1.0, false)),
+    ];
+    for (name, cases) in &sets {
+        for tier in [TriTier::Watertight, TriTier::Exact, TriTier::F64Watertight] {
+            let s = measure_triangles(tier, cases);
+            let asserted = tier != TriTier::Watertight;
+            println!(
+                "{name:>32} {:>16}: hits {} off-plane p50/p99/max {:.1}/{:.1}/{:.1} scaled max {:.2}",
+                tier.name(),
+                s.plane.len(),
+                s.plane_percentile(0.5),
+                s.plane_percentile(0.99),
+                s.plane_percentile(1.0),
+                s.max_scaled()
+            );
+            assert!(s.plane.len() > 300, "{name}: {} hits", s.plane.len());
+            assert_eq!((s.wrong, s.bad_t), (0, 0), "{name} {}", tier.name());
+            if !asserted {
+                continue;
+            }
+            assert!(
+                s.plane_percentile(0.99) <= 10.0,
+                "{name} {}: p99 {} steps off the plane",
+                tier.name(),
+                s.plane_percentile(0.99)
+            );
+            assert!(
+                s.max_scaled() <= t_bound(tier),
+                "{name} {}: t error {} > bound",
+                tier.name(),
+                s.max_scaled()
+            );
+        }
+    }
 }
