@@ -44,7 +44,8 @@
 //!   past the filter, the exact ones to f64 precision, rounded.
 //! - **Cost:** the filter's certificates on every test: 3.354 (report: `exact, 8 lanes`, ns/test)
 //!   against the watertight tier's 2.662 (report: `watertight, 8 lanes`, ns/test) on the trade
-//!   workload. Per ray family (the report's second table, one ray and one triangle per call):
+//!   workload, measured before `t` became the f64 plane distance, which adds its evaluation on
+//!   every lane that hits: about 3× per test on that workload, where half the tests hit. Per ray family (the report's second table, one ray and one triangle per call):
 //!   1.0× the watertight tier on random and translated rays, 1.1–1.3× grazing, ~4× on thin
 //!   triangles, ~10× on rays aimed exactly at vertices and edges, where every test leaves the
 //!   filter and a fifth of them (exact ties) reach the integer stage.
