@@ -393,7 +393,11 @@ pub fn near_cases(seed: u64, n: usize, aspect: f32, axis_aligned: bool) -> Vec<T
             let (u, w) = (rng.range(0.05, 0.6), rng.range(0.05, 0.35));
             let foot = point(v, u, w);
             let h = len * 10f32.powf(rng.range(-4.0, -1.0));
-            let side = if rng.next_u64().is_multiple_of(2) { 1.0 } else { -1.0 };
+            let side = if rng.next_u64().is_multiple_of(2) {
+                1.0
+            } else {
+                -1.0
+            };
             let o = foot + Vec3::new(0.0, 0.0, side * h);
             let target = foot + Vec3::new(rng.range(-3.0, 3.0) * h, rng.range(-3.0, 3.0) * h, 0.0);
             let (axis, ang) = if axis_aligned {
