@@ -302,20 +302,38 @@ fn finite_range(q: &LaneQuery) -> (f64, f64) {
 /// `det[r0, r1, r2] = r0·(r1 × r2)` in f64 and its permanent `|r0|·(|r1| × |r2|)` (the sum of
 /// the absolute values of its six terms).
 fn det_f64(r0: [f64; 3], r1: [f64; 3], r2: [f64; 3]) -> (f64, f64) {
-    let c = [
-        r1[1] * r2[2] - r1[2] * r2[1],
-        r1[2] * r2[0] - r1[0] * r2[2],
-        r1[0] * r2[1] - r1[1] * r2[0],
-    ];
+    let c = cross3(r1, r2);
     let p = [
         (r1[1] * r2[2]).abs() + (r1[2] * r2[1]).abs(),
         (r1[2] * r2[0]).abs() + (r1[0] * r2[2]).abs(),
         (r1[0] * r2[1]).abs() + (r1[1] * r2[0]).abs(),
     ];
     (
-        r0[0] * c[0] + r0[1] * c[1] + r0[2] * c[2],
+        dot3(r0, c),
         r0[0].abs() * p[0] + r0[1].abs() * p[1] + r0[2].abs() * p[2],
     )
+}
+
+/// `a − b` in f64, component by component.
+#[inline(always)]
+pub(super) fn sub3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// `a × b` in f64.
+#[inline(always)]
+pub(super) fn cross3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// `a · b` in f64, summed left to right.
+#[inline(always)]
+pub(super) fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// [`resolve`]'s f64 stage: `Some(answer)` where every decision is certified, `None` where one
@@ -334,10 +352,7 @@ fn resolve_f64(q: &LaneQuery) -> Option<Option<Resolved>> {
     } = *q;
     let u = f64::EPSILON / 2.0;
     let wide = |p: P| p.map(f64::from);
-    let rel = |p: P| {
-        let (p, o) = (wide(p), wide(o));
-        [p[0] - o[0], p[1] - o[1], p[2] - o[2]]
-    };
+    let rel = |p: P| sub3(wide(p), wide(o));
     let (a, dd) = ([rel(v[0]), rel(v[1]), rel(v[2])], wide(d));
     let mut w = [(0.0, 0.0); 3];
     for (i, wi) in w.iter_mut().enumerate() {

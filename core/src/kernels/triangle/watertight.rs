@@ -46,7 +46,7 @@
 //!   exact tier, which decides the edges exactly too.
 //!
 use crate::hit::LanesHit;
-use crate::kernels::triangle::exact::{resolve, LaneQuery};
+use crate::kernels::triangle::exact::{cross3, dot3, resolve, sub3, LaneQuery};
 use crate::lanes::V3;
 use crate::lanes::{LaneMask, Lanes, Scalar, MAX_LANES};
 use crate::prim::{Permuted, Primitive, VertexLanes, Words};
@@ -80,8 +80,6 @@ pub struct ShearedRay<L: Lanes> {
     safe: L::Mask,
     /// The origin in each lane's axis order: `(o[kx], o[ky], o[kz])`.
     origin: V3<L>,
-    /// The direction in each lane's axis order: `(d[kx], d[ky], d[kz])`.
-    dir: V3<L>,
     /// `[kx, ky, kz]` when every lane shares them (single rays, coherent packets): the kernel
     /// then reads the vertices in that order ([`Permuted`]) instead of blending per lane.
     shared_axes: Option<[usize; 3]>,
@@ -158,7 +156,6 @@ impl<L: Lanes> ShearedRay<L> {
                 ky.pick(ray.origin),
                 kz.pick(ray.origin),
             ),
-            dir: V3::new(dx, dy, dz),
             shared_axes,
         }
     }
@@ -527,7 +524,13 @@ fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
     let (exact_bits, exact_t) = (exact_t, L::mask_from_bits(exact_t));
     let blend = t_num / det;
     let mut t = if EXACT {
-        plane_t(mask & !exact_t, sh.origin, (v0, v1, v2), sh.dir, blend)
+        plane_t(
+            mask & !exact_t,
+            sh.origin,
+            (v0, v1, v2),
+            sh.permute(ray.dir),
+            blend,
+        )
     } else {
         blend
     } + zero;
@@ -576,11 +579,7 @@ fn plane_t<L: Lanes>(
         let f = |v: V3<L>| v.lane(i).map(Scalar::to_f64);
         let (p0, p1, p2, d) = (f(v0), f(v1), f(v2), f(dir));
         let (e1, e2) = (sub3(p1, p0), sub3(p2, p0));
-        let n = [
-            e1[1] * e2[2] - e1[2] * e2[1],
-            e1[2] * e2[0] - e1[0] * e2[2],
-            e1[0] * e2[1] - e1[1] * e2[0],
-        ];
+        let n = cross3(e1, e2);
         let t = L::Scalar::from_f64(dot3(sub3(p0, f(origin)), n) / dot3(d, n));
         if t.to_f64().is_finite() {
             out[i] = t;
@@ -592,16 +591,6 @@ fn plane_t<L: Lanes>(
         L::from_fn(|i| out[i % MAX_LANES]),
         fallback,
     )
-}
-
-#[inline(always)]
-fn sub3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-#[inline(always)]
-fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// Magnitudes inside `[SAFE_MIN, SAFE_MAX]` keep every product of the filters normal and finite.
