@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The same bits on other ISAs: test slices on aarch64 (NEON, under QEMU user mode) and on
 # wasm32-wasip1 (simd128, under Node's WASI), through the runners in .cargo/config.toml. Each
-# slice includes the determinism digest (the value stored for x86-64), the golden seed tests,
+# slice includes the determinism digest (the value stored for x86-64), the Cortex-M firmware's
+# transcript (examples/cortex-m/expected.txt), the golden seed tests,
 # packet == scalar twin, the exact tier against the oracle and BVH == brute force. Installs what
 # it needs; skips a target with a message only when its tools cannot be installed here.
 set -euo pipefail
@@ -17,7 +18,7 @@ apt_install() {
 # The slice, as test-name filters on the one integration-test binary (tests/suite): whole
 # modules, and BVH == brute force without the heaviest proptests (emulation is slow) and, on
 # WebAssembly, without the thread-pool tests (wasm32-wasip1 has no threads).
-SLICE=(determinism:: golden:: exact:: queries:: box_test:: packet_bits::
+SLICE=(determinism:: embedded:: golden:: exact:: queries:: box_test:: packet_bits::
   bvh::bvh_equals_brute_force_on_triangle_scenes bvh::bvh_equals_brute_force_on_sphere_scenes
   bvh::filtered_walks bvh::ties_go_to bvh::crack_suite bvh::build_is_deterministic
   bvh::empty_and_unhittable bvh::refit_rejects)

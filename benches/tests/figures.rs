@@ -12,6 +12,24 @@ fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
+/// The text of `file` between `<!-- {name}:begin -->` and `<!-- {name}:end -->`.
+fn marked(file: &str, name: &str) -> String {
+    let text = std::fs::read_to_string(root().join(file)).expect("read");
+    let (start, end) = (
+        format!("<!-- {name}:begin -->\n"),
+        format!("<!-- {name}:end -->"),
+    );
+    let a = text
+        .find(&start)
+        .unwrap_or_else(|| panic!("{file} has the {name} start marker"))
+        + start.len();
+    let b = text[a..]
+        .find(&end)
+        .unwrap_or_else(|| panic!("{file} has the {name} end marker"))
+        + a;
+    text[a..b].to_string()
+}
+
 #[test]
 fn readme_table_is_the_report() {
     let md = std::fs::read_to_string(report::path()).expect("tradeoff.md");
@@ -34,14 +52,8 @@ fn readme_scene_rows_are_the_scene_report() {
     let sponza = &md[md.find("### Sponza").expect("Sponza section")..];
     let sponza = &sponza[..sponza.find("\n### ").unwrap_or(sponza.len())];
     for file in ["README.md", "docs/scenes.md"] {
-        let text = std::fs::read_to_string(root().join(file)).expect("read");
-        let (start, end) = ("<!-- scenes:begin -->\n", "<!-- scenes:end -->");
-        let a = text
-            .find(start)
-            .unwrap_or_else(|| panic!("{file} has the scenes start marker"))
-            + start.len();
-        let b = text.find(end).expect("the scenes end marker");
-        let rows: Vec<&str> = text[a..b].lines().skip(2).collect();
+        let block = marked(file, "scenes");
+        let rows: Vec<&str> = block.lines().skip(2).collect();
         assert!(
             rows.len() >= 8,
             "{file}'s scene table has {} rows",
@@ -54,6 +66,18 @@ fn readme_scene_rows_are_the_scene_report() {
             );
         }
     }
+}
+
+#[test]
+fn readme_microcontroller_figures_are_the_report() {
+    // The README's Cortex-M table is the block `bash .ci/cortex-m.sh --report` writes.
+    let report = marked("benches/cortex-m.md", "cortex-m");
+    assert!(report.lines().count() >= 6, "{report}");
+    assert_eq!(
+        marked("README.md", "cortex-m"),
+        report,
+        "README.md's Cortex-M table differs from benches/cortex-m.md: copy the report's block"
+    );
 }
 
 #[test]

@@ -14,11 +14,10 @@ mod bad_input;
 mod box_test;
 mod bvh;
 mod determinism;
+mod embedded;
 mod exact;
 #[cfg(not(octoray_isa_slice))]
 mod extremes;
-#[cfg(not(octoray_isa_slice))]
-mod features;
 #[cfg(not(octoray_isa_slice))]
 mod fuzz;
 mod golden;

@@ -1,6 +1,8 @@
 //! What a single-primitive build (`--no-default-features --features triangle` or `sphere`) must
 //! still do: the seed problems of its primitive through the textbook core, the scalar twin and
-//! the 8-lane packet. `.ci/run` runs this file on both feature builds.
+//! the 8-lane packet. `.ci/run` runs it on both builds, with nothing else enabling the other
+//! feature.
+#![cfg(test)]
 
 #[cfg(feature = "triangle")]
 mod triangles {

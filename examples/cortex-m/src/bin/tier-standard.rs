@@ -1,0 +1,13 @@
+//! The smallest useful firmware with one tier (standard): a stored tree and the camera's rays
+//! through it. Its size is the figure for embedded users choosing a tier.
+#![no_std]
+#![no_main]
+
+use cortex_m_rt::entry;
+use octoray::kernels::MollerTrumbore;
+use octoray_cortex_m::device::{one_tier, packed_tree};
+
+#[entry]
+fn main() -> ! {
+    one_tier::<MollerTrumbore>("standard", packed_tree())
+}
