@@ -474,6 +474,11 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
         }
     }
 
+    /// Whether the scene can be traced: nothing changed since the last [`Scene::commit`].
+    pub fn is_committed(&self) -> bool {
+        self.committed
+    }
+
     /// The scene as borrowed slices, for tracing.
     ///
     /// # Panics

@@ -1,0 +1,132 @@
+//! The C examples' job (`examples/job.h`) through the Rust API: the same scene, rays and shadow
+//! rays, and the same printed line. `.ci/capi.sh` checks that the C and C++ programs print what
+//! this prints, so the C ABI answers what the Rust API answers, bit for bit. Takes the tier as
+//! its argument (0 standard, 1 watertight, 2 exact; default 1).
+use octoray::f32x8;
+use octoray::glam::{Affine3A, Mat3A, Vec3, Vec3A};
+use octoray::hit::Hit;
+use octoray::kernels::{Exact, Kernel, MollerTrumbore, StableSphere, Watertight};
+use octoray::prim::{PackedSphere, PackedTriangle, Primitive, Ray, VertexTriangle};
+use octoray::scene::{Scene, Trace, Transform};
+
+const GRID: u32 = 24;
+const WIDTH: u32 = 64;
+const HEIGHT: u32 = 48;
+
+/// FNV-1a over 32-bit words.
+fn word(h: &mut u64, w: u32) {
+    for b in w.to_le_bytes() {
+        *h = (*h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3);
+    }
+}
+
+fn camera(k: u32) -> Ray {
+    let dx = ((k % WIDTH) as f32 + 0.5) / 32.0 - 1.0;
+    let dy = ((k / WIDTH) as f32 + 0.5) / 24.0 - 1.0;
+    Ray::new(
+        Vec3::new(0.0, 25.0, -60.0),
+        Vec3::new(dx, -0.35 - 0.3 * dy, 1.0),
+    )
+}
+
+fn run<T, KT>(tier: u32, tri: impl Fn(Vec3, Vec3, Vec3) -> T)
+where
+    T: Primitive + Sync,
+    KT: Kernel<f32x8, Prim = T>,
+{
+    let vertex =
+        |x: u32, z: u32| Vec3::new(x as f32, ((x * 7 + z * 13) % 5) as f32 * 0.25, z as f32);
+    let mut tris = Vec::new();
+    for z in 0..GRID {
+        for x in 0..GRID {
+            let (a, b) = (vertex(x, z), vertex(x + 1, z));
+            let (c, d) = (vertex(x + 1, z + 1), vertex(x, z + 1));
+            tris.push(tri(a, b, c));
+            tris.push(tri(a, c, d));
+        }
+    }
+    let balls: Vec<PackedSphere> = (0..4)
+        .map(|k| {
+            PackedSphere::new(
+                Vec3::new((k * 9 - 12) as f32, 6.0, 10.0),
+                2.0 + 0.5 * k as f32,
+            )
+        })
+        .collect();
+    let mut scene = Scene::<T, PackedSphere>::new();
+    let terrain = scene.add_triangles(&tris).expect("build");
+    let balls = scene.add_spheres(&balls).expect("build");
+    for i in 0..9 {
+        let s = if i % 2 == 0 { 1.0 } else { 0.5 };
+        let mirror = if i == 4 { -1.0 } else { 1.0 };
+        let place = Affine3A {
+            matrix3: Mat3A::from_cols(
+                Vec3A::new(mirror * s, 0.0, 0.0),
+                Vec3A::new(0.0, s, 0.0),
+                Vec3A::new(0.0, 0.0, s),
+            ),
+            translation: Vec3A::new(((i % 3) * 30 - 45) as f32, -2.0, ((i / 3) * 30 - 20) as f32),
+        };
+        scene.add_instance(
+            &[terrain],
+            Transform::placing(place).expect("invertible"),
+            1,
+        );
+    }
+    scene.add_instance(&[balls], Transform::IDENTITY, 2);
+    scene.commit();
+    let s = scene.as_ref();
+
+    let rays: Vec<Ray> = (0..WIDTH * HEIGHT).map(camera).collect();
+    let mut hits = vec![None; rays.len()];
+    s.closest::<f32x8, KT, StableSphere>(&rays, !0, &mut hits);
+    let light = Vec3::new(20.0, 60.0, -10.0);
+    let shadow: Vec<Ray> = rays
+        .iter()
+        .zip(&hits)
+        .filter_map(|(r, h)| {
+            let h: Hit = (*h)?;
+            let p = r.origin + r.dir * h.t;
+            Some(Ray::with_range(p, light - p, 1e-3, 1.0))
+        })
+        .collect();
+    let mut blocked = vec![false; shadow.len()];
+    s.occluded::<f32x8, KT, StableSphere>(&shadow, !0, &mut blocked);
+
+    let mut digest = 0xcbf2_9ce4_8422_2325;
+    for h in &hits {
+        let w = match h {
+            Some(h) => [
+                h.t.to_bits(),
+                h.u.to_bits(),
+                h.v.to_bits(),
+                h.prim,
+                h.geom,
+                h.inst,
+            ],
+            None => [f32::INFINITY.to_bits(), 0, 0, u32::MAX, u32::MAX, u32::MAX],
+        };
+        w.into_iter().for_each(|w| word(&mut digest, w));
+    }
+    blocked
+        .iter()
+        .for_each(|&b| word(&mut digest, u32::from(b)));
+    println!(
+        "tier {tier}: {} rays, {} hit, {} in shadow, digest 0x{digest:016x}",
+        rays.len(),
+        shadow.len(),
+        blocked.iter().filter(|&&b| b).count()
+    );
+}
+
+fn main() {
+    let tier = std::env::args()
+        .nth(1)
+        .map_or(1, |a| a.parse().expect("a tier: 0, 1 or 2"));
+    match tier {
+        0 => run::<_, MollerTrumbore>(0, PackedTriangle::new),
+        1 => run::<_, Watertight>(1, VertexTriangle::new),
+        2 => run::<_, Exact>(2, VertexTriangle::new),
+        _ => panic!("a tier: 0, 1 or 2"),
+    }
+}

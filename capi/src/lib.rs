@@ -1,0 +1,1104 @@
+//! octoray's C ABI: build a scene from vertex, index and sphere buffers, place instances, trace
+//! single rays, ray arrays and 8/16-ray SoA packets (closest hit and occlusion) at a tier chosen
+//! per scene, read hits (`t`, `u`, `v`, primitive, geometry, instance), store a scene as bytes
+//! and load it back (validated). Every function returns an [`OctorayStatus`]; on failure
+//! [`octoray_last_error`] says why. No panic crosses the boundary: each call catches it and
+//! answers [`OctorayStatus::Panic`].
+//!
+//! The answers are those of the Rust API on the same inputs, bit for bit (the same walks:
+//! `octoray::scene::Trace` at 8 lanes, 16 for 16-ray packets).
+//!
+//! The header `include/octoray.h` is generated from this file by cbindgen (`tests/header.rs`
+//! fails when it is stale).
+use core::ffi::c_char;
+use std::cell::RefCell;
+use std::ffi::CString;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+use octoray::glam::{Affine3A, Mat3A, Vec3, Vec3A};
+use octoray::hit::Hit;
+use octoray::kernels::{Exact, MollerTrumbore, StableSphere, Watertight};
+use octoray::lanes::{LaneMask, Lanes};
+use octoray::prim::{PackedSphere, PackedTriangle, Ray, RayLanes, VertexTriangle};
+use octoray::scene::{Scene, SceneRef, Trace, Transform};
+use octoray::{f32x16, f32x8};
+
+mod store;
+
+/// What a call answered.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OctorayStatus {
+    /// Success.
+    Ok = 0,
+    /// A required pointer was null.
+    NullPointer = 1,
+    /// An argument is out of its range (an unknown tier, an index past a buffer, a geometry
+    /// that does not exist, a transform that is not invertible, a buffer too small).
+    InvalidArgument = 2,
+    /// A tree could not be built (more primitives than a tree holds).
+    BuildFailed = 3,
+    /// The scene changed since its last `octoray_scene_commit`.
+    NotCommitted = 4,
+    /// Stored scene bytes are not a valid scene (nothing is read past a check that failed).
+    InvalidScene = 5,
+    /// The call was given a scene loaded from bytes, which cannot be changed.
+    ReadOnly = 6,
+    /// octoray panicked (a bug): the call had no effect on its outputs.
+    Panic = 7,
+}
+
+/// The accuracy tier a scene's triangles are tested with (its layout follows).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OctorayTier {
+    /// Möller-Trumbore on packed triangles: fastest, not watertight.
+    Standard = 0,
+    /// Woop-Benthin-Wald with exact fallbacks: no ray escapes a closed mesh.
+    Watertight = 1,
+    /// Exact hit/miss decisions for the f32 inputs, `t` within about an ulp.
+    Exact = 2,
+}
+
+impl OctorayTier {
+    fn from_raw(raw: u32) -> Option<Self> {
+        [Self::Standard, Self::Watertight, Self::Exact]
+            .into_iter()
+            .find(|t| *t as u32 == raw)
+    }
+}
+
+/// A ray: origin, direction (any length, not zero) and the accepted range of `t`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct OctorayRay {
+    /// Origin x, y, z.
+    pub org: [f32; 3],
+    /// Direction x, y, z.
+    pub dir: [f32; 3],
+    /// Smallest accepted `t`.
+    pub t_min: f32,
+    /// Largest accepted `t` (`INFINITY` for none).
+    pub t_max: f32,
+}
+
+impl From<&OctorayRay> for Ray {
+    fn from(r: &OctorayRay) -> Ray {
+        Ray::with_range(Vec3::from(r.org), Vec3::from(r.dir), r.t_min, r.t_max)
+    }
+}
+
+/// `prim`, `geom` and `inst` of a miss.
+pub const OCTORAY_NO_HIT: u32 = u32::MAX;
+
+/// A hit, or a miss (`prim == OCTORAY_NO_HIT`, `t` infinite, the rest 0).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OctorayHit {
+    /// Ray parameter of the hit.
+    pub t: f32,
+    /// Barycentric weight of the triangle's second vertex (0 for spheres).
+    pub u: f32,
+    /// Barycentric weight of the triangle's third vertex (0 for spheres).
+    pub v: f32,
+    /// The primitive's index in its geometry.
+    pub prim: u32,
+    /// The geometry.
+    pub geom: u32,
+    /// The instance the ray met it through.
+    pub inst: u32,
+}
+
+impl From<Option<Hit>> for OctorayHit {
+    fn from(h: Option<Hit>) -> Self {
+        match h {
+            Some(h) => Self {
+                t: h.t,
+                u: h.u,
+                v: h.v,
+                prim: h.prim,
+                geom: h.geom,
+                inst: h.inst,
+            },
+            None => Self {
+                t: f32::INFINITY,
+                u: 0.0,
+                v: 0.0,
+                prim: OCTORAY_NO_HIT,
+                geom: OCTORAY_NO_HIT,
+                inst: OCTORAY_NO_HIT,
+            },
+        }
+    }
+}
+
+/// Eight rays, structure of arrays. A lane with `t_min > t_max` is a miss (fill unused lanes
+/// so).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct OctorayRay8 {
+    /// Origins, x, y, z per lane.
+    pub org: [[f32; 8]; 3],
+    /// Directions, x, y, z per lane.
+    pub dir: [[f32; 8]; 3],
+    /// Smallest accepted `t` per lane.
+    pub t_min: [f32; 8],
+    /// Largest accepted `t` per lane.
+    pub t_max: [f32; 8],
+}
+
+/// Eight hits, structure of arrays (a miss as in [`OctorayHit`]).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OctorayHit8 {
+    /// `t` per lane.
+    pub t: [f32; 8],
+    /// `u` per lane.
+    pub u: [f32; 8],
+    /// `v` per lane.
+    pub v: [f32; 8],
+    /// Primitive per lane.
+    pub prim: [u32; 8],
+    /// Geometry per lane.
+    pub geom: [u32; 8],
+    /// Instance per lane.
+    pub inst: [u32; 8],
+}
+
+/// Sixteen rays, structure of arrays, as [`OctorayRay8`].
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OctorayRay16 {
+    /// Origins, x, y, z per lane.
+    pub org: [[f32; 16]; 3],
+    /// Directions, x, y, z per lane.
+    pub dir: [[f32; 16]; 3],
+    /// Smallest accepted `t` per lane.
+    pub t_min: [f32; 16],
+    /// Largest accepted `t` per lane.
+    pub t_max: [f32; 16],
+}
+
+/// Sixteen hits, structure of arrays.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OctorayHit16 {
+    /// `t` per lane.
+    pub t: [f32; 16],
+    /// `u` per lane.
+    pub u: [f32; 16],
+    /// `v` per lane.
+    pub v: [f32; 16],
+    /// Primitive per lane.
+    pub prim: [u32; 16],
+    /// Geometry per lane.
+    pub geom: [u32; 16],
+    /// Instance per lane.
+    pub inst: [u32; 16],
+}
+
+/// A packet type of `N` lanes: its rays out, its hits in.
+trait Packet<const N: usize> {
+    type Hits;
+    fn ray(&self, i: usize) -> Ray;
+    fn hits(hits: [OctorayHit; N]) -> Self::Hits;
+}
+
+macro_rules! packet {
+    ($ray:ty, $hit:ident, $n:literal) => {
+        impl Packet<$n> for $ray {
+            type Hits = $hit;
+            fn ray(&self, i: usize) -> Ray {
+                let o = Vec3::new(self.org[0][i], self.org[1][i], self.org[2][i]);
+                let d = Vec3::new(self.dir[0][i], self.dir[1][i], self.dir[2][i]);
+                Ray::with_range(o, d, self.t_min[i], self.t_max[i])
+            }
+            fn hits(h: [OctorayHit; $n]) -> $hit {
+                $hit {
+                    t: h.map(|h| h.t),
+                    u: h.map(|h| h.u),
+                    v: h.map(|h| h.v),
+                    prim: h.map(|h| h.prim),
+                    geom: h.map(|h| h.geom),
+                    inst: h.map(|h| h.inst),
+                }
+            }
+        }
+    };
+}
+packet!(OctorayRay8, OctorayHit8, 8);
+packet!(OctorayRay16, OctorayHit16, 16);
+
+/// A scene: built by the caller (geometries, instances, commit) or loaded from stored bytes.
+/// Opaque to C; create with [`octoray_scene_new`] or [`octoray_scene_load`], free with
+/// [`octoray_scene_free`]. Not safe to change from two threads at once; tracing from many
+/// threads at once is safe.
+pub struct OctorayScene {
+    tier: OctorayTier,
+    body: Body,
+}
+
+enum Body {
+    Packed(Scene<PackedTriangle, PackedSphere>),
+    Vertex(Scene<VertexTriangle, PackedSphere>),
+    Loaded(store::Loaded),
+}
+
+/// The scene as borrowed slices, for a trace.
+enum View<'a> {
+    Packed(SceneRef<'a, PackedTriangle, PackedSphere>),
+    Vertex(SceneRef<'a, VertexTriangle, PackedSphere>),
+}
+
+thread_local! {
+    static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
+}
+
+/// Records `message` as this thread's last error and answers `status`.
+fn fail(status: OctorayStatus, message: impl Into<String>) -> OctorayStatus {
+    let text = message.into().replace('\0', " ");
+    LAST_ERROR.with(|e| *e.borrow_mut() = CString::new(text).unwrap_or_default());
+    status
+}
+
+/// Runs `body`, turning a panic into [`OctorayStatus::Panic`] with its message.
+fn guard(body: impl FnOnce() -> OctorayStatus) -> OctorayStatus {
+    match catch_unwind(AssertUnwindSafe(body)) {
+        Ok(s) => s,
+        Err(p) => {
+            let what = p
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| p.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".into());
+            fail(OctorayStatus::Panic, format!("octoray panicked: {what}"))
+        }
+    }
+}
+
+/// The message of the last failed call on this thread (empty after none), valid until the next
+/// failing call on this thread. Never null.
+#[no_mangle]
+pub extern "C" fn octoray_last_error() -> *const c_char {
+    LAST_ERROR.with(|e| e.borrow().as_ptr())
+}
+
+/// Creates an empty scene whose triangles are tested with `tier` (an [`OctorayTier`] value).
+///
+/// # Safety
+/// `out` is null or valid for writing one pointer. On success `*out` owns a scene the caller
+/// frees with [`octoray_scene_free`].
+#[no_mangle]
+pub unsafe extern "C" fn octoray_scene_new(
+    tier: u32,
+    out: *mut *mut OctorayScene,
+) -> OctorayStatus {
+    guard(|| {
+        if out.is_null() {
+            return fail(OctorayStatus::NullPointer, "octoray_scene_new: out is null");
+        }
+        let Some(tier) = OctorayTier::from_raw(tier) else {
+            return fail(
+                OctorayStatus::InvalidArgument,
+                format!("octoray_scene_new: unknown tier {tier}"),
+            );
+        };
+        let body = match tier {
+            OctorayTier::Standard => Body::Packed(Scene::new()),
+            _ => Body::Vertex(Scene::new()),
+        };
+        let scene = Box::into_raw(Box::new(OctorayScene { tier, body }));
+        // SAFETY: `out` is non-null and, by the contract, valid for writing one pointer.
+        unsafe { out.write(scene) };
+        OctorayStatus::Ok
+    })
+}
+
+/// Frees a scene (null is allowed and does nothing).
+///
+/// # Safety
+/// `scene` is null or a pointer from [`octoray_scene_new`] / [`octoray_scene_load`] not freed
+/// before, and no other call uses it during or after this one.
+#[no_mangle]
+pub unsafe extern "C" fn octoray_scene_free(scene: *mut OctorayScene) {
+    if !scene.is_null() {
+        // SAFETY: by the contract `scene` came from `Box::into_raw` and is freed only here.
+        drop(unsafe { Box::from_raw(scene) });
+    }
+}
+
+/// `&mut` to a caller's scene, or the status to answer.
+///
+/// # Safety
+/// `scene` is null or a live scene no other call uses meanwhile.
+unsafe fn scene_mut<'a>(
+    scene: *mut OctorayScene,
+    call: &str,
+) -> Result<&'a mut OctorayScene, OctorayStatus> {
+    // SAFETY: by the contract, a non-null `scene` is live and not aliased during the call.
+    unsafe { scene.as_mut() }
+        .ok_or_else(|| fail(OctorayStatus::NullPointer, format!("{call}: scene is null")))
+}
+
+/// `&` to a caller's scene, or the status to answer.
+///
+/// # Safety
+/// `scene` is null or a live scene not changed meanwhile.
+unsafe fn scene_ref<'a>(
+    scene: *const OctorayScene,
+    call: &str,
+) -> Result<&'a OctorayScene, OctorayStatus> {
+    // SAFETY: by the contract, a non-null `scene` is live and not changed during the call.
+    unsafe { scene.as_ref() }
+        .ok_or_else(|| fail(OctorayStatus::NullPointer, format!("{call}: scene is null")))
+}
+
+/// A caller's buffer of `n` items as a slice (empty when `n == 0`, whatever the pointer).
+///
+/// # Safety
+/// `ptr` is null or valid for reading `n` items.
+unsafe fn slice<'a, T>(
+    ptr: *const T,
+    n: usize,
+    call: &str,
+    what: &str,
+) -> Result<&'a [T], OctorayStatus> {
+    if n == 0 {
+        return Ok(&[]);
+    }
+    if ptr.is_null() {
+        return Err(fail(
+            OctorayStatus::NullPointer,
+            format!("{call}: {what} is null"),
+        ));
+    }
+    // SAFETY: non-null and, by the contract, valid for reading `n` items.
+    Ok(unsafe { core::slice::from_raw_parts(ptr, n) })
+}
+
+/// A caller's output buffer of `n` items as a slice.
+///
+/// # Safety
+/// `ptr` is null or valid for writing `n` items, and not read or written elsewhere during the
+/// call.
+unsafe fn slice_mut<'a, T>(
+    ptr: *mut T,
+    n: usize,
+    call: &str,
+    what: &str,
+) -> Result<&'a mut [T], OctorayStatus> {
+    if n == 0 {
+        return Ok(&mut []);
+    }
+    if ptr.is_null() {
+        return Err(fail(
+            OctorayStatus::NullPointer,
+            format!("{call}: {what} is null"),
+        ));
+    }
+    // SAFETY: non-null and, by the contract, valid and exclusive for `n` items.
+    Ok(unsafe { core::slice::from_raw_parts_mut(ptr, n) })
+}
+
+/// Writes `value` through an output pointer that the caller checked is non-null.
+///
+/// # Safety
+/// `ptr` is valid for writing one `T`.
+unsafe fn put<T>(ptr: *mut T, value: T) {
+    // SAFETY: the caller's contract.
+    unsafe { ptr.write(value) }
+}
+
+/// Turns an early-exit status into the answer.
+fn run(body: impl FnOnce() -> Result<(), OctorayStatus>) -> OctorayStatus {
+    guard(|| match body() {
+        Ok(()) => OctorayStatus::Ok,
+        Err(s) => s,
+    })
+}
+
+/// Adds a triangle mesh: `vertex_count` vertices of three floats (x, y, z) and
+/// `triangle_count` triangles of three vertex indices. Its geometry ID goes to `*geom`.
+/// Triangles with a non-finite vertex are never hit.
+///
+/// # Safety
+/// `scene` is a live scene no other call uses meanwhile; `vertices` is valid for reading
+/// `3·vertex_count` floats, `indices` for `3·triangle_count` indices, `geom` for writing one
+/// ID.
+#[no_mangle]
+pub unsafe extern "C" fn octoray_scene_add_mesh(
+    scene: *mut OctorayScene,
+    vertices: *const f32,
+    vertex_count: usize,
+    indices: *const u32,
+    triangle_count: usize,
+    geom: *mut u32,
+) -> OctorayStatus {
+    const CALL: &str = "octoray_scene_add_mesh";
+    run(|| {
+        // SAFETY: the function's contract.
+        let s = unsafe { scene_mut(scene, CALL) }?;
+        let words = vertex_count
+            .checked_mul(3)
+            .ok_or_else(|| fail(OctorayStatus::InvalidArgument, "too many vertices"))?;
+        let n = triangle_count
+            .checked_mul(3)
+            .ok_or_else(|| fail(OctorayStatus::InvalidArgument, "too many triangles"))?;
+        // SAFETY: the function's contract.
+        let v = unsafe { slice(vertices, words, CALL, "vertices") }?;
+        // SAFETY: the function's contract.
+        let idx = unsafe { slice(indices, n, CALL, "indices") }?;
+        if geom.is_null() {
+            return Err(fail(
+                OctorayStatus::NullPointer,
+                format!("{CALL}: geom is null"),
+            ));
+        }
+        if let Some(k) = idx.iter().position(|&i| i as usize >= vertex_count) {
+            return Err(fail(
+                OctorayStatus::InvalidArgument,
+                format!(
+                    "{CALL}: index {k} is {}, past the {vertex_count} vertices",
+                    idx[k]
+                ),
+            ));
+        }
+        let p = |i: u32| Vec3::from_slice(&v[3 * i as usize..][..3]);
+        let tri = |t: &[u32]| (p(t[0]), p(t[1]), p(t[2]));
+        let built = match &mut s.body {
+            Body::Packed(sc) => {
+                let prims: Vec<_> = idx
+                    .chunks(3)
+                    .map(|t| {
+                        let (a, b, c) = tri(t);
+                        PackedTriangle::new(a, b, c)
+                    })
+                    .collect();
+                sc.add_triangles(&prims)
+            }
+            Body::Vertex(sc) => {
+                let prims: Vec<_> = idx
+                    .chunks(3)
+                    .map(|t| {
+                        let (a, b, c) = tri(t);
+                        VertexTriangle::new(a, b, c)
+                    })
+                    .collect();
+                sc.add_triangles(&prims)
+            }
+            Body::Loaded(_) => return Err(read_only(CALL)),
+        };
+        let id = built.map_err(|e| fail(OctorayStatus::BuildFailed, format!("{CALL}: {e}")))?;
+        // SAFETY: `geom` is non-null and, by the contract, valid for writing.
+        unsafe { put(geom, id) };
+        Ok(())
+    })
+}
+
+fn read_only(call: &str) -> OctorayStatus {
+    fail(
+        OctorayStatus::ReadOnly,
+        format!("{call}: a loaded scene cannot be changed"),
+    )
+}
+
+/// Adds a set of spheres: `count` spheres of four floats (center x, y, z, radius). Its
+/// geometry ID goes to `*geom`.
+///
+/// # Safety
+/// `scene` is a live scene no other call uses meanwhile; `spheres` is valid for reading
+/// `4·count` floats, `geom` for writing one ID.
+#[no_mangle]
+pub unsafe extern "C" fn octoray_scene_add_spheres(
+    scene: *mut OctorayScene,
+    spheres: *const f32,
+    count: usize,
+    geom: *mut u32,
+) -> OctorayStatus {
+    const CALL: &str = "octoray_scene_add_spheres";
+    run(|| {
+        // SAFETY: the function's contract.
+        let s = unsafe { scene_mut(scene, CALL) }?;
+        let n = count
+            .checked_mul(4)
+            .ok_or_else(|| fail(OctorayStatus::InvalidArgument, "too many spheres"))?;
+        // SAFETY: the function's contract.
+        let f = unsafe { slice(spheres, n, CALL, "spheres") }?;
+        if geom.is_null() {
+            return Err(fail(
+                OctorayStatus::NullPointer,
+                format!("{CALL}: geom is null"),
+            ));
+        }
+        let prims: Vec<PackedSphere> = f
+            .chunks(4)
+            .map(|c| PackedSphere::new(Vec3::new(c[0], c[1], c[2]), c[3]))
+            .collect();
+        let built = match &mut s.body {
+            Body::Packed(sc) => sc.add_spheres(&prims),
+            Body::Vertex(sc) => sc.add_spheres(&prims),
+            Body::Loaded(_) => return Err(read_only(CALL)),
+        };
+        let id = built.map_err(|e| fail(OctorayStatus::BuildFailed, format!("{CALL}: {e}")))?;
+        // SAFETY: `geom` is non-null and, by the contract, valid for writing.
+        unsafe { put(geom, id) };
+        Ok(())
+    })
+}
+
+/// Places geometries (one bottom-level tree over all of them, shared by every instance of the
+/// same set) with `object_to_world`, 12 floats: a 3×4 row-major matrix `[A | b]` mapping object
+/// to world (null for the identity), and a mask ANDed with each query's. Its instance ID goes
+/// to `*inst`. Rays are carried into object space by the inverse, formed in f64 and rounded
+/// once (`octoray::scene::Transform::placing`).
+///
+/// # Safety
+/// `scene` is a live scene no other call uses meanwhile; `geoms` is valid for reading
+/// `geom_count` IDs; `object_to_world` is null or valid for reading 12 floats; `inst` is valid
+/// for writing one ID.
+#[no_mangle]
+pub unsafe extern "C" fn octoray_scene_add_instance(
+    scene: *mut OctorayScene,
+    geoms: *const u32,
+    geom_count: usize,
+    object_to_world: *const f32,
+    mask: u32,
+    inst: *mut u32,
+) -> OctorayStatus {
+    const CALL: &str = "octoray_scene_add_instance";
+    run(|| {
+        // SAFETY: the function's contract.
+        let s = unsafe { scene_mut(scene, CALL) }?;
+        // SAFETY: the function's contract.
+        let ids = unsafe { slice(geoms, geom_count, CALL, "geoms") }?;
+        if inst.is_null() {
+            return Err(fail(
+                OctorayStatus::NullPointer,
+                format!("{CALL}: inst is null"),
+            ));
+        }
+        let transform = if object_to_world.is_null() {
+            Transform::IDENTITY
+        } else {
+            // SAFETY: non-null and, by the contract, valid for reading 12 floats.
+            let m = unsafe { slice(object_to_world, 12, CALL, "object_to_world") }?;
+            let col = |j: usize| Vec3A::new(m[j], m[4 + j], m[8 + j]);
+            let place = Affine3A {
+                matrix3: Mat3A::from_cols(col(0), col(1), col(2)),
+                translation: col(3),
+            };
+            Transform::placing(place).ok_or_else(|| {
+                fail(
+                    OctorayStatus::InvalidArgument,
+                    format!("{CALL}: the transform is not finite or not invertible"),
+                )
+            })?
+        };
+        let known = match &s.body {
+            Body::Packed(sc) => sc.geometries().len(),
+            Body::Vertex(sc) => sc.geometries().len(),
+            Body::Loaded(_) => return Err(read_only(CALL)),
+        };
+        if ids.is_empty() {
+            return Err(fail(
+                OctorayStatus::InvalidArgument,
+                format!("{CALL}: no geometries"),
+            ));
+        }
+        if let Some(&g) = ids.iter().find(|&&g| g as usize >= known) {
+            return Err(fail(
+                OctorayStatus::InvalidArgument,
+                format!("{CALL}: no geometry {g}"),
+            ));
+        }
+        let id = match &mut s.body {
+            Body::Packed(sc) => sc.add_instance(ids, transform, mask),
+            Body::Vertex(sc) => sc.add_instance(ids, transform, mask),
+            Body::Loaded(_) => unreachable!("checked above"),
+        };
+        // SAFETY: `inst` is non-null and, by the contract, valid for writing.
+        unsafe { put(inst, id) };
+        Ok(())
+    })
+}
+
+/// Builds the top-level tree over the instances: call after adding or changing instances and
+/// before tracing.
+///
+/// # Safety
+/// `scene` is a live scene no other call uses meanwhile.
+#[no_mangle]
+pub unsafe extern "C" fn octoray_scene_commit(scene: *mut OctorayScene) -> OctorayStatus {
+    const CALL: &str = "octoray_scene_commit";
+    run(|| {
+        // SAFETY: the function's contract.
+        let s = unsafe { scene_mut(scene, CALL) }?;
+        let done = match &mut s.body {
+            Body::Packed(sc) => sc.commit_with(&octoray::bvh::Sequential),
+            Body::Vertex(sc) => sc.commit_with(&octoray::bvh::Sequential),
+            Body::Loaded(_) => return Err(read_only(CALL)),
+        };
+        done.map_err(|e| fail(OctorayStatus::BuildFailed, format!("{CALL}: {e}")))
+    })
+}
+
+impl OctorayScene {
+    fn view(&self, call: &str) -> Result<View<'_>, OctorayStatus> {
+        let not_committed = || {
+            fail(
+                OctorayStatus::NotCommitted,
+                format!("{call}: the scene changed since its last commit"),
+            )
+        };
+        Ok(match &self.body {
+            Body::Packed(sc) if sc.is_committed() => View::Packed(sc.as_ref()),
+            Body::Vertex(sc) if sc.is_committed() => View::Vertex(sc.as_ref()),
+            Body::Packed(_) | Body::Vertex(_) => return Err(not_committed()),
+            Body::Loaded(l) => l.view(),
+        })
+    }
+}
+
+/// Dispatches `$body` over the view's layout and the scene's tier: `$s` is the scene, `$KT`
+/// the triangle kernel.
+macro_rules! traced {
+    ($scene:expr, $view:expr, |$s:ident, $KT:ident| $body:expr) => {
+        match ($view, $scene.tier) {
+            (View::Packed($s), _) => {
+                type $KT = MollerTrumbore;
+                $body
+            }
+            (View::Vertex($s), OctorayTier::Exact) => {
+                type $KT = Exact;
+                $body
+            }
+            (View::Vertex($s), _) => {
+                type $KT = Watertight;
+                $body
+            }
+        }
+    };
+}
+
+/// The closest hit of one ray whose geometry and instance masks share a bit with `mask`.
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `ray` is valid for reading, `hit` for
+/// writing.
+#[no_mangle]
+pub unsafe extern "C" fn octoray_closest1(
+    scene: *const OctorayScene,
+    ray: *const OctorayRay,
+    mask: u32,
+    hit: *mut OctorayHit,
+) -> OctorayStatus {
+    const CALL: &str = "octoray_closest1";
+    run(|| {
+        // SAFETY: the function's contract.
+        let s = unsafe { scene_ref(scene, CALL) }?;
+        // SAFETY: the function's contract.
+        let r = unsafe { slice(ray, 1, CALL, "ray") }?;
+        let out = null_check(hit, CALL, "hit")?;
+        let r = Ray::from(&r[0]);
+        let h = traced!(s, s.view(CALL)?, |sc, KT| sc
+            .closest_ray::<f32x8, KT, StableSphere>(&r, mask));
+        // SAFETY: non-null and, by the contract, valid for writing.
+        unsafe { put(out, OctorayHit::from(h)) };
+        Ok(())
+    })
+}
+
+fn null_check<T>(p: *mut T, call: &str, what: &str) -> Result<*mut T, OctorayStatus> {
+    if p.is_null() {
+        Err(fail(
+            OctorayStatus::NullPointer,
+            format!("{call}: {what} is null"),
+        ))
+    } else {
+        Ok(p)
+    }
+}
+
+/// Whether one ray hits anything in its range (occlusion): `*occluded` is 1 or 0.
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `ray` is valid for reading, `occluded` for
+/// writing.
+#[no_mangle]
+pub unsafe extern "C" fn octoray_occluded1(
+    scene: *const OctorayScene,
+    ray: *const OctorayRay,
+    mask: u32,
+    occluded: *mut u8,
+) -> OctorayStatus {
+    const CALL: &str = "octoray_occluded1";
+    run(|| {
+        // SAFETY: the function's contract.
+        let s = unsafe { scene_ref(scene, CALL) }?;
+        // SAFETY: the function's contract.
+        let r = unsafe { slice(ray, 1, CALL, "ray") }?;
+        let out = null_check(occluded, CALL, "occluded")?;
+        let r = Ray::from(&r[0]);
+        let o = traced!(s, s.view(CALL)?, |sc, KT| sc
+            .occluded_ray::<f32x8, KT, StableSphere>(&r, mask));
+        // SAFETY: non-null and, by the contract, valid for writing.
+        unsafe { put(out, u8::from(o)) };
+        Ok(())
+    })
+}
+
+/// The closest hit of each of `count` rays (`hits[i]` for `rays[i]`), in 8-ray packets where
+/// neighbouring rays share a direction octant.
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `rays` is valid for reading `count` rays,
+/// `hits` for writing `count` hits.
+#[no_mangle]
+pub unsafe extern "C" fn octoray_closest(
+    scene: *const OctorayScene,
+    rays: *const OctorayRay,
+    count: usize,
+    mask: u32,
+    hits: *mut OctorayHit,
+) -> OctorayStatus {
+    const CALL: &str = "octoray_closest";
+    run(|| {
+        // SAFETY: the function's contract.
+        let s = unsafe { scene_ref(scene, CALL) }?;
+        // SAFETY: the function's contract.
+        let rays = unsafe { slice(rays, count, CALL, "rays") }?;
+        // SAFETY: the function's contract.
+        let hits = unsafe { slice_mut(hits, count, CALL, "hits") }?;
+        let view = s.view(CALL)?;
+        let mut got = vec![None; 256.min(count)];
+        for (rs, hs) in rays.chunks(256).zip(hits.chunks_mut(256)) {
+            let rs: Vec<Ray> = rs.iter().map(Ray::from).collect();
+            let got = &mut got[..rs.len()];
+            traced!(s, &view, |sc, KT| sc
+                .closest::<f32x8, KT, StableSphere>(&rs, mask, got));
+            for (h, g) in hs.iter_mut().zip(got.iter()) {
+                *h = OctorayHit::from(*g);
+            }
+        }
+        Ok(())
+    })
+}
+
+/// Occlusion of each of `count` rays (`occluded[i]` is 1 or 0), packets as
+/// [`octoray_closest`].
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `rays` is valid for reading `count` rays,
+/// `occluded` for writing `count` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn octoray_occluded(
+    scene: *const OctorayScene,
+    rays: *const OctorayRay,
+    count: usize,
+    mask: u32,
+    occluded: *mut u8,
+) -> OctorayStatus {
+    const CALL: &str = "octoray_occluded";
+    run(|| {
+        // SAFETY: the function's contract.
+        let s = unsafe { scene_ref(scene, CALL) }?;
+        // SAFETY: the function's contract.
+        let rays = unsafe { slice(rays, count, CALL, "rays") }?;
+        // SAFETY: the function's contract.
+        let out = unsafe { slice_mut(occluded, count, CALL, "occluded") }?;
+        let view = s.view(CALL)?;
+        let mut got = vec![false; 256.min(count)];
+        for (rs, os) in rays.chunks(256).zip(out.chunks_mut(256)) {
+            let rs: Vec<Ray> = rs.iter().map(Ray::from).collect();
+            let got = &mut got[..rs.len()];
+            traced!(s, &view, |sc, KT| sc
+                .occluded::<f32x8, KT, StableSphere>(&rs, mask, got));
+            for (o, g) in os.iter_mut().zip(got.iter()) {
+                *o = u8::from(*g);
+            }
+        }
+        Ok(())
+    })
+}
+
+/// One packet's closest hits at `L` lanes.
+fn closest_n<L: Lanes, const N: usize, P: Packet<N>>(
+    s: &OctorayScene,
+    view: View<'_>,
+    p: &P,
+    mask: u32,
+) -> P::Hits
+where
+    MollerTrumbore: octoray::kernels::Kernel<L, Prim = PackedTriangle>,
+    Watertight: octoray::kernels::Kernel<L, Prim = VertexTriangle>,
+    Exact: octoray::kernels::Kernel<L, Prim = VertexTriangle>,
+    StableSphere: octoray::kernels::Kernel<L, Prim = PackedSphere>,
+{
+    let rays: [Ray; N] = core::array::from_fn(|i| p.ray(i));
+    let lanes = RayLanes::<L>::load(&rays);
+    let h = traced!(s, view, |sc, KT| sc
+        .closest_packet::<L, KT, StableSphere>(&lanes, mask));
+    P::hits(core::array::from_fn(|i| OctorayHit::from(h.lane(i))))
+}
+
+/// One packet's occlusion at `L` lanes, as a lane bit mask.
+fn occluded_n<L: Lanes, const N: usize, P: Packet<N>>(
+    s: &OctorayScene,
+    view: View<'_>,
+    p: &P,
+    mask: u32,
+) -> u32
+where
+    MollerTrumbore: octoray::kernels::Kernel<L, Prim = PackedTriangle>,
+    Watertight: octoray::kernels::Kernel<L, Prim = VertexTriangle>,
+    Exact: octoray::kernels::Kernel<L, Prim = VertexTriangle>,
+    StableSphere: octoray::kernels::Kernel<L, Prim = PackedSphere>,
+{
+    let rays: [Ray; N] = core::array::from_fn(|i| p.ray(i));
+    let lanes = RayLanes::<L>::load(&rays);
+    let m = traced!(s, view, |sc, KT| sc
+        .occluded_packet::<L, KT, StableSphere>(&lanes, mask));
+    m.bitmask() as u32
+}
+
+/// The body of the closest-hit packet calls.
+///
+/// # Safety
+/// As theirs.
+unsafe fn closest_call<L: Lanes, const N: usize, P: Packet<N>>(
+    call: &str,
+    scene: *const OctorayScene,
+    rays: *const P,
+    mask: u32,
+    hits: *mut P::Hits,
+) -> OctorayStatus
+where
+    MollerTrumbore: octoray::kernels::Kernel<L, Prim = PackedTriangle>,
+    Watertight: octoray::kernels::Kernel<L, Prim = VertexTriangle>,
+    Exact: octoray::kernels::Kernel<L, Prim = VertexTriangle>,
+    StableSphere: octoray::kernels::Kernel<L, Prim = PackedSphere>,
+{
+    run(|| {
+        // SAFETY: the caller's contract.
+        let s = unsafe { scene_ref(scene, call) }?;
+        // SAFETY: the caller's contract.
+        let p = unsafe { slice(rays, 1, call, "rays") }?;
+        let out = null_check(hits, call, "hits")?;
+        let h = closest_n::<L, N, P>(s, s.view(call)?, &p[0], mask);
+        // SAFETY: non-null and, by the contract, valid for writing.
+        unsafe { put(out, h) };
+        Ok(())
+    })
+}
+
+/// The body of the occlusion packet calls.
+///
+/// # Safety
+/// As theirs.
+unsafe fn occluded_call<L: Lanes, const N: usize, P: Packet<N>>(
+    call: &str,
+    scene: *const OctorayScene,
+    rays: *const P,
+    mask: u32,
+    occluded: *mut u32,
+) -> OctorayStatus
+where
+    MollerTrumbore: octoray::kernels::Kernel<L, Prim = PackedTriangle>,
+    Watertight: octoray::kernels::Kernel<L, Prim = VertexTriangle>,
+    Exact: octoray::kernels::Kernel<L, Prim = VertexTriangle>,
+    StableSphere: octoray::kernels::Kernel<L, Prim = PackedSphere>,
+{
+    run(|| {
+        // SAFETY: the caller's contract.
+        let s = unsafe { scene_ref(scene, call) }?;
+        // SAFETY: the caller's contract.
+        let p = unsafe { slice(rays, 1, call, "rays") }?;
+        let out = null_check(occluded, call, "occluded")?;
+        let m = occluded_n::<L, N, P>(s, s.view(call)?, &p[0], mask);
+        // SAFETY: non-null and, by the contract, valid for writing.
+        unsafe { put(out, m) };
+        Ok(())
+    })
+}
+
+/// The closest hits of an 8-ray SoA packet (every lane traced; an empty range is a miss).
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `rays` is valid for reading one packet,
+/// `hits` for writing one.
+#[no_mangle]
+pub unsafe extern "C" fn octoray_closest8(
+    scene: *const OctorayScene,
+    rays: *const OctorayRay8,
+    mask: u32,
+    hits: *mut OctorayHit8,
+) -> OctorayStatus {
+    // SAFETY: the same contract.
+    unsafe { closest_call::<f32x8, 8, _>("octoray_closest8", scene, rays, mask, hits) }
+}
+
+/// The closest hits of a 16-ray SoA packet (every lane traced; an empty range is a miss).
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `rays` is valid for reading one packet,
+/// `hits` for writing one.
+#[no_mangle]
+pub unsafe extern "C" fn octoray_closest16(
+    scene: *const OctorayScene,
+    rays: *const OctorayRay16,
+    mask: u32,
+    hits: *mut OctorayHit16,
+) -> OctorayStatus {
+    // SAFETY: the same contract.
+    unsafe { closest_call::<f32x16, 16, _>("octoray_closest16", scene, rays, mask, hits) }
+}
+
+/// Occlusion of an 8-ray SoA packet: bit `i` of `*occluded` is lane `i`'s answer.
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `rays` is valid for reading one packet,
+/// `occluded` for writing one word.
+#[no_mangle]
+pub unsafe extern "C" fn octoray_occluded8(
+    scene: *const OctorayScene,
+    rays: *const OctorayRay8,
+    mask: u32,
+    occluded: *mut u32,
+) -> OctorayStatus {
+    // SAFETY: the same contract.
+    unsafe { occluded_call::<f32x8, 8, _>("octoray_occluded8", scene, rays, mask, occluded) }
+}
+
+/// Occlusion of a 16-ray SoA packet: bit `i` of `*occluded` is lane `i`'s answer.
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `rays` is valid for reading one packet,
+/// `occluded` for writing one word.
+#[no_mangle]
+pub unsafe extern "C" fn octoray_occluded16(
+    scene: *const OctorayScene,
+    rays: *const OctorayRay16,
+    mask: u32,
+    occluded: *mut u32,
+) -> OctorayStatus {
+    // SAFETY: the same contract.
+    unsafe { occluded_call::<f32x16, 16, _>("octoray_occluded16", scene, rays, mask, occluded) }
+}
+
+/// Stores a committed scene as bytes: with `bytes` null, `*len` receives the size needed;
+/// otherwise the scene is written to `bytes` (`capacity` bytes available) and `*len` receives
+/// its size. The bytes are little-endian words in octoray's scene layout, tier included; load
+/// them with [`octoray_scene_load`] on any little-endian machine.
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `bytes` is null or valid for writing
+/// `capacity` bytes; `len` is valid for writing.
+#[no_mangle]
+pub unsafe extern "C" fn octoray_scene_store(
+    scene: *const OctorayScene,
+    bytes: *mut u8,
+    capacity: usize,
+    len: *mut usize,
+) -> OctorayStatus {
+    const CALL: &str = "octoray_scene_store";
+    run(|| {
+        // SAFETY: the function's contract.
+        let s = unsafe { scene_ref(scene, CALL) }?;
+        let len = null_check(len, CALL, "len")?;
+        let words = match s.view(CALL)? {
+            View::Packed(sc) => store::words(s.tier, sc.parts()),
+            View::Vertex(sc) => store::words(s.tier, sc.parts()),
+        };
+        let need = words.len() * 4;
+        // SAFETY: non-null and, by the contract, valid for writing.
+        unsafe { put(len, need) };
+        if bytes.is_null() {
+            return Ok(());
+        }
+        if capacity < need {
+            return Err(fail(
+                OctorayStatus::InvalidArgument,
+                format!("{CALL}: {capacity} bytes given, {need} needed"),
+            ));
+        }
+        // SAFETY: non-null and, by the contract, valid for writing `capacity ≥ need` bytes.
+        let out = unsafe { slice_mut(bytes, need, CALL, "bytes") }?;
+        for (o, w) in out.chunks_exact_mut(4).zip(&words) {
+            o.copy_from_slice(&w.to_le_bytes());
+        }
+        Ok(())
+    })
+}
+
+/// Loads a scene stored by [`octoray_scene_store`], validating every byte (in time linear in
+/// `len`): bytes that are not a valid scene give [`OctorayStatus::InvalidScene`], never a crash
+/// or a query that runs long. The bytes are copied; the scene can be traced, not changed.
+///
+/// # Safety
+/// `bytes` is valid for reading `len` bytes; `out` is valid for writing one pointer. On
+/// success `*out` owns a scene the caller frees with [`octoray_scene_free`].
+#[no_mangle]
+pub unsafe extern "C" fn octoray_scene_load(
+    bytes: *const u8,
+    len: usize,
+    out: *mut *mut OctorayScene,
+) -> OctorayStatus {
+    const CALL: &str = "octoray_scene_load";
+    run(|| {
+        // SAFETY: the function's contract.
+        let b = unsafe { slice(bytes, len, CALL, "bytes") }?;
+        let out = null_check(out, CALL, "out")?;
+        let (tier, loaded) = store::Loaded::new(b)
+            .map_err(|e| fail(OctorayStatus::InvalidScene, format!("{CALL}: {e}")))?;
+        let scene = Box::into_raw(Box::new(OctorayScene {
+            tier,
+            body: Body::Loaded(loaded),
+        }));
+        // SAFETY: non-null and, by the contract, valid for writing one pointer.
+        unsafe { put(out, scene) };
+        Ok(())
+    })
+}
+
+/// The scene's tier (an [`OctorayTier`] value) in `*tier`.
+///
+/// # Safety
+/// `scene` is a live scene; `tier` is valid for writing.
+#[no_mangle]
+pub unsafe extern "C" fn octoray_scene_tier(
+    scene: *const OctorayScene,
+    tier: *mut u32,
+) -> OctorayStatus {
+    const CALL: &str = "octoray_scene_tier";
+    run(|| {
+        // SAFETY: the function's contract.
+        let s = unsafe { scene_ref(scene, CALL) }?;
+        let out = null_check(tier, CALL, "tier")?;
+        // SAFETY: non-null and, by the contract, valid for writing.
+        unsafe { put(out, s.tier as u32) };
+        Ok(())
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_panic_is_a_status_with_its_message() {
+        let s = guard(|| panic!("deliberate"));
+        assert_eq!(s, OctorayStatus::Panic);
+        // SAFETY: `octoray_last_error` returns a valid NUL-terminated string.
+        let msg = unsafe { std::ffi::CStr::from_ptr(octoray_last_error()) };
+        assert_eq!(msg.to_str(), Ok("octoray panicked: deliberate"));
+        assert_eq!(guard(|| OctorayStatus::Ok), OctorayStatus::Ok);
+    }
+
+    #[test]
+    fn a_message_with_a_nul_is_kept() {
+        fail(OctorayStatus::InvalidArgument, "a\0b");
+        // SAFETY: as above.
+        let msg = unsafe { std::ffi::CStr::from_ptr(octoray_last_error()) };
+        assert_eq!(msg.to_str(), Ok("a b"));
+    }
+}

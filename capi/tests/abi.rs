@@ -1,0 +1,319 @@
+//! The C ABI's contracts, called from Rust: every failure is a status with a message (null
+//! pointers, an unknown tier, bad indices, a singular transform, an uncommitted scene, a
+//! changed loaded scene, a short buffer), stored scenes load back with the same answers at
+//! every tier, and hostile bytes (every truncation, every flipped byte of a small scene, random
+//! words) never crash a load or a query on what loaded.
+use std::ffi::CStr;
+use std::ptr::{null, null_mut};
+
+use octoray_capi::*;
+
+fn last_error() -> String {
+    // SAFETY: `octoray_last_error` returns a valid NUL-terminated string owned by this thread.
+    unsafe { CStr::from_ptr(octoray_last_error()) }
+        .to_string_lossy()
+        .into_owned()
+}
+
+/// A tetrahedron and a sphere, one instance each (the tetrahedron's moved by +x 5), committed.
+fn small(tier: u32) -> *mut OctorayScene {
+    let v: [f32; 12] = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+    let idx: [u32; 12] = [0, 1, 2, 0, 1, 3, 0, 2, 3, 1, 2, 3];
+    let ball: [f32; 4] = [0.0, 0.0, 5.0, 1.0];
+    let m: [f32; 12] = [1.0, 0.0, 0.0, 5.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+    let (mut scene, mut g, mut b, mut i) = (null_mut(), 0, 0, 0);
+    // SAFETY: every pointer is valid for what the call reads or writes.
+    unsafe {
+        assert_eq!(octoray_scene_new(tier, &mut scene), OctorayStatus::Ok);
+        assert_eq!(
+            octoray_scene_add_mesh(scene, v.as_ptr(), 4, idx.as_ptr(), 4, &mut g),
+            OctorayStatus::Ok
+        );
+        assert_eq!(
+            octoray_scene_add_spheres(scene, ball.as_ptr(), 1, &mut b),
+            OctorayStatus::Ok
+        );
+        assert_eq!(
+            octoray_scene_add_instance(scene, &g, 1, m.as_ptr(), 1, &mut i),
+            OctorayStatus::Ok
+        );
+        assert_eq!(
+            octoray_scene_add_instance(scene, &b, 1, null(), 2, &mut i),
+            OctorayStatus::Ok
+        );
+        assert_eq!(octoray_scene_commit(scene), OctorayStatus::Ok);
+    }
+    scene
+}
+
+fn rays() -> Vec<OctorayRay> {
+    (0..64)
+        .map(|k| {
+            let (x, y) = ((k % 8) as f32 / 4.0 - 0.5, (k / 8) as f32 / 4.0 - 0.5);
+            OctorayRay {
+                org: [x + 5.0 * (k % 2) as f32, y, -3.0],
+                dir: [0.01, 0.02, 1.0],
+                t_min: 0.0,
+                t_max: f32::INFINITY,
+            }
+        })
+        .collect()
+}
+
+fn trace(scene: *const OctorayScene, rays: &[OctorayRay]) -> (OctorayStatus, Vec<OctorayHit>) {
+    let mut hits = vec![OctorayHit::from(None); rays.len()];
+    // SAFETY: `rays` and `hits` hold `rays.len()` items; `scene` is live.
+    let s = unsafe { octoray_closest(scene, rays.as_ptr(), rays.len(), !0, hits.as_mut_ptr()) };
+    (s, hits)
+}
+
+fn store(scene: *const OctorayScene) -> Vec<u8> {
+    let mut len = 0;
+    // SAFETY: a null buffer asks for the length; `len` is valid.
+    let s = unsafe { octoray_scene_store(scene, null_mut(), 0, &mut len) };
+    assert_eq!(s, OctorayStatus::Ok);
+    let mut bytes = vec![0u8; len];
+    // SAFETY: `bytes` holds `len` bytes.
+    let s = unsafe { octoray_scene_store(scene, bytes.as_mut_ptr(), len, &mut len) };
+    assert_eq!(s, OctorayStatus::Ok);
+    bytes
+}
+
+/// Loads `bytes`; on success traces the rays (which must not fail) and frees the scene.
+fn load_and_trace(bytes: &[u8]) -> OctorayStatus {
+    let mut scene = null_mut();
+    // SAFETY: `bytes` is valid for its length; `scene` for writing.
+    let s = unsafe { octoray_scene_load(bytes.as_ptr(), bytes.len(), &mut scene) };
+    if s == OctorayStatus::Ok {
+        let (t, hits) = trace(scene, &rays());
+        assert_eq!(t, OctorayStatus::Ok);
+        assert!(hits.iter().all(|h| h.prim == u32::MAX || h.t.is_finite()));
+        // SAFETY: loaded above, freed once.
+        unsafe { octoray_scene_free(scene) };
+    } else {
+        assert!(!last_error().is_empty());
+    }
+    s
+}
+
+#[test]
+fn stored_scenes_load_back_with_the_same_answers_at_every_tier() {
+    for tier in 0..3 {
+        let scene = small(tier);
+        let (s, hits) = trace(scene, &rays());
+        assert_eq!(s, OctorayStatus::Ok);
+        let (tri, ball) = (
+            hits.iter().filter(|h| h.geom == 0).count(),
+            hits.iter().filter(|h| h.geom == 1).count(),
+        );
+        assert!(
+            tri > 0 && ball > 0,
+            "tier {tier}: {tri} triangle and {ball} sphere hits"
+        );
+        let bytes = store(scene);
+        let mut loaded = null_mut();
+        // SAFETY: valid buffers.
+        unsafe {
+            assert_eq!(
+                octoray_scene_load(bytes.as_ptr(), bytes.len(), &mut loaded),
+                OctorayStatus::Ok
+            );
+            let mut t = 9;
+            assert_eq!(octoray_scene_tier(loaded, &mut t), OctorayStatus::Ok);
+            assert_eq!(t, tier);
+        }
+        assert_eq!(trace(loaded, &rays()), (OctorayStatus::Ok, hits));
+        // A loaded scene is read-only.
+        let mut g = 0;
+        let ball = [0.0f32; 4];
+        // SAFETY: valid buffers; both scenes freed once.
+        unsafe {
+            assert_eq!(
+                octoray_scene_add_spheres(loaded, ball.as_ptr(), 1, &mut g),
+                OctorayStatus::ReadOnly
+            );
+            octoray_scene_free(loaded);
+            octoray_scene_free(scene);
+        }
+    }
+}
+
+#[test]
+fn single_rays_and_packets_equal_the_array_call() {
+    let scene = small(1);
+    let rays = rays();
+    let (_, hits) = trace(scene, &rays);
+    for (k, r) in rays.iter().enumerate() {
+        let mut one = OctorayHit::from(None);
+        let mut occ = 7u8;
+        // SAFETY: valid pointers.
+        unsafe {
+            assert_eq!(octoray_closest1(scene, r, !0, &mut one), OctorayStatus::Ok);
+            assert_eq!(octoray_occluded1(scene, r, !0, &mut occ), OctorayStatus::Ok);
+        }
+        assert_eq!(one, hits[k]);
+        assert_eq!(occ, u8::from(hits[k].prim != u32::MAX));
+    }
+    for (p, chunk) in rays.chunks(16).enumerate() {
+        let mut r16 = OctorayRay16 {
+            org: [[0.0; 16]; 3],
+            dir: [[0.0; 16]; 3],
+            t_min: [0.0; 16],
+            t_max: [0.0; 16],
+        };
+        for (i, r) in chunk.iter().enumerate() {
+            for a in 0..3 {
+                (r16.org[a][i], r16.dir[a][i]) = (r.org[a], r.dir[a]);
+            }
+            (r16.t_min[i], r16.t_max[i]) = (r.t_min, r.t_max);
+        }
+        let mut h16 = std::mem::MaybeUninit::<OctorayHit16>::uninit();
+        let mut occ = 0u32;
+        // SAFETY: valid pointers; the call writes the whole packet on success.
+        let h16 = unsafe {
+            assert_eq!(
+                octoray_closest16(scene, &r16, !0, h16.as_mut_ptr()),
+                OctorayStatus::Ok
+            );
+            assert_eq!(
+                octoray_occluded16(scene, &r16, !0, &mut occ),
+                OctorayStatus::Ok
+            );
+            h16.assume_init()
+        };
+        for i in 0..16 {
+            let h = &hits[16 * p + i];
+            assert_eq!(
+                (h16.t[i].to_bits(), h16.prim[i], h16.geom[i], h16.inst[i]),
+                (h.t.to_bits(), h.prim, h.geom, h.inst)
+            );
+            assert_eq!(occ >> i & 1 == 1, h.prim != u32::MAX);
+        }
+    }
+    // SAFETY: freed once.
+    unsafe { octoray_scene_free(scene) };
+}
+
+#[test]
+fn every_failure_is_a_status_with_a_message() {
+    let mut scene = null_mut();
+    let v = [0.0f32; 9];
+    let (mut g, mut len) = (0, 0);
+    // SAFETY: each call gets valid pointers except the one it is about.
+    unsafe {
+        assert_eq!(
+            octoray_scene_new(3, &mut scene),
+            OctorayStatus::InvalidArgument
+        );
+        assert!(last_error().contains("tier"));
+        assert_eq!(octoray_scene_new(1, null_mut()), OctorayStatus::NullPointer);
+        assert_eq!(octoray_scene_commit(null_mut()), OctorayStatus::NullPointer);
+        assert_eq!(octoray_scene_new(1, &mut scene), OctorayStatus::Ok);
+        let bad = [0u32, 1, 3];
+        assert_eq!(
+            octoray_scene_add_mesh(scene, v.as_ptr(), 3, bad.as_ptr(), 1, &mut g),
+            OctorayStatus::InvalidArgument
+        );
+        assert!(
+            last_error().contains("past the 3 vertices"),
+            "{}",
+            last_error()
+        );
+        assert_eq!(
+            octoray_scene_add_mesh(scene, null(), 3, bad.as_ptr(), 1, &mut g),
+            OctorayStatus::NullPointer
+        );
+        assert_eq!(
+            octoray_scene_add_instance(scene, &7, 1, null(), 1, &mut g),
+            OctorayStatus::InvalidArgument
+        );
+        let ok = [0u32, 1, 2];
+        assert_eq!(
+            octoray_scene_add_mesh(scene, v.as_ptr(), 3, ok.as_ptr(), 1, &mut g),
+            OctorayStatus::Ok
+        );
+        let singular = [0.0f32; 12];
+        assert_eq!(
+            octoray_scene_add_instance(scene, &g, 1, singular.as_ptr(), 1, &mut g),
+            OctorayStatus::InvalidArgument
+        );
+        assert_eq!(
+            octoray_scene_add_instance(scene, &g, 1, null(), 1, &mut g),
+            OctorayStatus::Ok
+        );
+        let r = rays();
+        let mut h = OctorayHit::from(None);
+        assert_eq!(
+            octoray_closest1(scene, &r[0], !0, &mut h),
+            OctorayStatus::NotCommitted
+        );
+        assert_eq!(
+            octoray_scene_store(scene, null_mut(), 0, &mut len),
+            OctorayStatus::NotCommitted
+        );
+        assert_eq!(octoray_scene_commit(scene), OctorayStatus::Ok);
+        assert_eq!(
+            octoray_closest1(scene, &r[0], !0, &mut h),
+            OctorayStatus::Ok
+        );
+        assert_eq!(
+            octoray_closest1(scene, &r[0], !0, null_mut()),
+            OctorayStatus::NullPointer
+        );
+        assert_eq!(
+            octoray_scene_store(scene, null_mut(), 0, &mut len),
+            OctorayStatus::Ok
+        );
+        let mut short = vec![0u8; len - 1];
+        assert_eq!(
+            octoray_scene_store(scene, short.as_mut_ptr(), short.len(), &mut len),
+            OctorayStatus::InvalidArgument
+        );
+        octoray_scene_free(scene);
+        octoray_scene_free(null_mut());
+    }
+}
+
+#[test]
+fn hostile_bytes_never_crash_a_load_or_a_query() {
+    let scene = small(1);
+    let bytes = store(scene);
+    // SAFETY: freed once.
+    unsafe { octoray_scene_free(scene) };
+    assert_eq!(load_and_trace(&bytes), OctorayStatus::Ok);
+    for n in 0..bytes.len() {
+        assert_eq!(
+            load_and_trace(&bytes[..n]),
+            OctorayStatus::InvalidScene,
+            "{n} bytes"
+        );
+    }
+    let mut refused = 0;
+    for i in 0..bytes.len() {
+        for flip in [0x01u8, 0x80, 0xff] {
+            let mut b = bytes.clone();
+            b[i] ^= flip;
+            let s = load_and_trace(&b);
+            assert!(matches!(s, OctorayStatus::Ok | OctorayStatus::InvalidScene));
+            refused += usize::from(s == OctorayStatus::InvalidScene);
+        }
+    }
+    // Most flips land in box or vertex bits (a valid scene, other answers); those in counts,
+    // indices and links are refused.
+    assert!(refused > 0);
+    let mut x = 0x9e37_79b9_7f4a_7c15u64;
+    for _ in 0..2000 {
+        let mut b = bytes.clone();
+        for _ in 0..4 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let at = (x % b.len() as u64) as usize & !3;
+            b[at..at + 4].copy_from_slice(&((x >> 32) as u32).to_le_bytes());
+        }
+        assert!(matches!(
+            load_and_trace(&b),
+            OctorayStatus::Ok | OctorayStatus::InvalidScene
+        ));
+    }
+}
