@@ -189,18 +189,18 @@ static int run_job(uint32_t tier) {
   uint8_t *bytes = (uint8_t *)malloc(len);
   check(octoray_scene_store(scene, bytes, len, &len), "octoray_scene_store");
   OctorayScene *loaded = NULL;
-  check(octoray_scene_load(bytes, len, &loaded), "octoray_scene_load");
+  check(octoray_scene_load(bytes, len, tier, &loaded), "octoray_scene_load");
   check(octoray_closest(loaded, rays, RAYS, ~0u, again), "octoray_closest (loaded)");
   for (int k = 0; k < RAYS; k++) mismatches += !same_hit(&again[k], &hits[k]);
   /* A corrupted section length is refused with a message; a corrupted byte anywhere is a
    * valid scene or an error, never a crash. */
   OctorayScene *bad = NULL;
   bytes[8] ^= 0x40;
-  int refused = octoray_scene_load(bytes, len, &bad) == OCTORAY_STATUS_INVALID_SCENE &&
+  int refused = octoray_scene_load(bytes, len, tier, &bad) == OCTORAY_STATUS_INVALID_SCENE &&
                 strlen(octoray_last_error()) > 0;
   bytes[8] ^= 0x40;
   bytes[len / 2] ^= 0x40;
-  if (octoray_scene_load(bytes, len, &bad) == OCTORAY_STATUS_OK) octoray_scene_free(bad);
+  if (octoray_scene_load(bytes, len, tier, &bad) == OCTORAY_STATUS_OK) octoray_scene_free(bad);
   free(bytes);
   /* An index past the vertices: an error with a message. */
   const float tri[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
@@ -223,6 +223,89 @@ static int run_job(uint32_t tier) {
     fprintf(stderr, "%d mismatches between the calls; bad input refused: %d\n", mismatches, refused);
     return 1;
   }
+  return 0;
+}
+
+/* Reads a whole file; NULL on failure. */
+static uint8_t *read_file(const char *path, size_t *len) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return NULL;
+  fseek(f, 0, SEEK_END);
+  long n = ftell(f);
+  fseek(f, 0, SEEK_SET);
+  uint8_t *b = (uint8_t *)malloc(n > 0 ? (size_t)n : 1);
+  if (b && n >= 0 && fread(b, 1, (size_t)n, f) == (size_t)n) {
+    *len = (size_t)n;
+  } else {
+    free(b);
+    b = NULL;
+  }
+  fclose(f);
+  return b;
+}
+
+/* Renders the demo's scene from what `render --export DIR` wrote (DIR/scene.bin, DIR/rays.bin):
+ * the primary rays in 16-ray packets, a PPM image shaded by geometry and distance
+ * (DIR/render-c.ppm), and the digest of the primary hits, which the Rust demo prints too. */
+static int run_demo(const char *dir, uint32_t tier, uint32_t width, const char *image) {
+  char path[4096];
+  size_t scene_len = 0, rays_len = 0;
+  snprintf(path, sizeof path, "%s/scene.bin", dir);
+  uint8_t *scene_bytes = read_file(path, &scene_len);
+  snprintf(path, sizeof path, "%s/rays.bin", dir);
+  uint8_t *ray_bytes = read_file(path, &rays_len);
+  if (!scene_bytes || !ray_bytes || rays_len % 32 != 0 || width == 0) {
+    fprintf(stderr, "cannot read %s/scene.bin and %s/rays.bin\n", dir, dir);
+    return 1;
+  }
+  OctorayScene *scene = NULL;
+  check(octoray_scene_load(scene_bytes, scene_len, tier, &scene), "octoray_scene_load");
+  free(scene_bytes);
+  size_t n = rays_len / 32, height = n / width;
+  OctorayRay *rays = (OctorayRay *)malloc(n * sizeof(OctorayRay));
+  OctorayHit *hits = (OctorayHit *)malloc(n * sizeof(OctorayHit));
+  for (size_t k = 0; k < n; k++) memcpy(&rays[k], ray_bytes + 32 * k, 32); /* little-endian */
+  free(ray_bytes);
+  for (size_t p = 0; p < n; p += 16) {
+    OctorayRay16 r;
+    OctorayHit16 h;
+    for (int i = 0; i < 16; i++) {
+      /* Past the end: an empty range, a miss. */
+      OctorayRay q = p + i < n ? rays[p + i] : rays[0];
+      if (p + i >= n) { q.t_min = 1.0f; q.t_max = 0.0f; }
+      for (int a = 0; a < 3; a++) { r.org[a][i] = q.org[a]; r.dir[a][i] = q.dir[a]; }
+      r.t_min[i] = q.t_min;
+      r.t_max[i] = q.t_max;
+    }
+    check(octoray_closest16(scene, &r, ~0u, &h), "octoray_closest16");
+    for (int i = 0; i < 16 && p + i < n; i++) {
+      OctorayHit e = {h.t[i], h.u[i], h.v[i], h.prim[i], h.geom[i], h.inst[i]};
+      hits[p + i] = e;
+    }
+  }
+  uint64_t digest = 0xcbf29ce484222325ull;
+  size_t hit_count = 0;
+  FILE *ppm = image ? fopen(image, "wb") : NULL;
+  if (ppm) fprintf(ppm, "P6 %u %zu 255\n", width, height);
+  for (size_t k = 0; k < n; k++) {
+    fnv_hit(&digest, &hits[k]);
+    unsigned char rgb[3] = {200, 215, 235};
+    if (hits[k].prim != OCTORAY_NO_HIT) {
+      hit_count++;
+      float fade = 1.0f / (1.0f + 0.02f * hits[k].t);
+      uint32_t g = hits[k].geom * 2654435761u;
+      for (int c = 0; c < 3; c++) {
+        rgb[c] = (unsigned char)((float)(64 + ((g >> (8 * c)) & 127)) * fade + 40.0f);
+      }
+    }
+    if (ppm && k < width * height) fwrite(rgb, 1, 3, ppm);
+  }
+  if (ppm) fclose(ppm);
+  octoray_scene_free(scene);
+  free(rays);
+  free(hits);
+  printf("demo scene, tier %u: %zu primary rays, %zu hit, digest 0x%016llx\n", tier, n, hit_count,
+         (unsigned long long)digest);
   return 0;
 }
 

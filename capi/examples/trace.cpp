@@ -1,5 +1,6 @@
 // octoray from C++: the same job (job.h compiles as C++), plus the scene held by a
 // std::unique_ptr with octoray_scene_free as its deleter, as a C++ renderer would.
+#include <cstring>
 #include <memory>
 #include <vector>
 
@@ -8,6 +9,11 @@
 using ScenePtr = std::unique_ptr<OctorayScene, decltype(&octoray_scene_free)>;
 
 int main(int argc, char **argv) {
+  // `trace-cpp demo DIR TIER WIDTH [PPM]`: the demo's exported scene, as trace.c.
+  if (argc > 4 && std::strcmp(argv[1], "demo") == 0) {
+    return run_demo(argv[2], static_cast<uint32_t>(std::atoi(argv[3])),
+                    static_cast<uint32_t>(std::atoi(argv[4])), argc > 5 ? argv[5] : nullptr);
+  }
   uint32_t tier = argc > 1 ? static_cast<uint32_t>(std::atoi(argv[1]))
                              : static_cast<uint32_t>(OCTORAY_TIER_WATERTIGHT);
   int status = run_job(tier);

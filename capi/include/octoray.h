@@ -292,8 +292,9 @@ enum OctorayStatus octoray_occluded16(const struct OctorayScene *scene,
 
 // Stores a committed scene as bytes: with `bytes` null, `*len` receives the size needed;
 // otherwise the scene is written to `bytes` (`capacity` bytes available) and `*len` receives
-// its size. The bytes are little-endian words in octoray's scene layout, tier included; load
-// them with [`octoray_scene_load`] on any little-endian machine.
+// its size. The bytes are octoray's stored scene (`SceneRef::to_words`, little-endian words),
+// which the Rust API reads too; load them with [`octoray_scene_load`] on any little-endian
+// machine.
 //
 // # Safety
 // `scene` is a live scene not changed meanwhile; `bytes` is null or valid for writing
@@ -303,14 +304,19 @@ enum OctorayStatus octoray_scene_store(const struct OctorayScene *scene,
                                        size_t capacity,
                                        size_t *len);
 
-// Loads a scene stored by [`octoray_scene_store`], validating every byte (in time linear in
-// `len`): bytes that are not a valid scene give [`OctorayStatus::InvalidScene`], never a crash
-// or a query that runs long. The bytes are copied; the scene can be traced, not changed.
+// Loads a stored scene (from [`octoray_scene_store`] or the Rust API's `SceneRef::to_words`)
+// to be traced with `tier` (the layout must be the tier's: the standard tier's scenes load as
+// standard, the watertight and exact tiers' as either), validating every byte in time linear
+// in `len`: bytes that are not a valid scene give [`OctorayStatus::InvalidScene`], never a
+// crash or a query that runs long. The bytes are copied; the scene can be traced, not changed.
 //
 // # Safety
 // `bytes` is valid for reading `len` bytes; `out` is valid for writing one pointer. On
 // success `*out` owns a scene the caller frees with [`octoray_scene_free`].
-enum OctorayStatus octoray_scene_load(const uint8_t *bytes, size_t len, struct OctorayScene **out);
+enum OctorayStatus octoray_scene_load(const uint8_t *bytes,
+                                      size_t len,
+                                      uint32_t tier,
+                                      struct OctorayScene **out);
 
 // The scene's tier (an [`OctorayTier`] value) in `*tier`.
 //

@@ -987,8 +987,9 @@ pub unsafe extern "C" fn octoray_occluded16(
 
 /// Stores a committed scene as bytes: with `bytes` null, `*len` receives the size needed;
 /// otherwise the scene is written to `bytes` (`capacity` bytes available) and `*len` receives
-/// its size. The bytes are little-endian words in octoray's scene layout, tier included; load
-/// them with [`octoray_scene_load`] on any little-endian machine.
+/// its size. The bytes are octoray's stored scene (`SceneRef::to_words`, little-endian words),
+/// which the Rust API reads too; load them with [`octoray_scene_load`] on any little-endian
+/// machine.
 ///
 /// # Safety
 /// `scene` is a live scene not changed meanwhile; `bytes` is null or valid for writing
@@ -1006,8 +1007,8 @@ pub unsafe extern "C" fn octoray_scene_store(
         let s = unsafe { scene_ref(scene, CALL) }?;
         let len = null_check(len, CALL, "len")?;
         let words = match s.view(CALL)? {
-            View::Packed(sc) => store::words(s.tier, sc.parts()),
-            View::Vertex(sc) => store::words(s.tier, sc.parts()),
+            View::Packed(sc) => sc.to_words(),
+            View::Vertex(sc) => sc.to_words(),
         };
         let need = words.len() * 4;
         // SAFETY: non-null and, by the contract, valid for writing.
@@ -1030,9 +1031,11 @@ pub unsafe extern "C" fn octoray_scene_store(
     })
 }
 
-/// Loads a scene stored by [`octoray_scene_store`], validating every byte (in time linear in
-/// `len`): bytes that are not a valid scene give [`OctorayStatus::InvalidScene`], never a crash
-/// or a query that runs long. The bytes are copied; the scene can be traced, not changed.
+/// Loads a stored scene (from [`octoray_scene_store`] or the Rust API's `SceneRef::to_words`)
+/// to be traced with `tier` (the layout must be the tier's: the standard tier's scenes load as
+/// standard, the watertight and exact tiers' as either), validating every byte in time linear
+/// in `len`: bytes that are not a valid scene give [`OctorayStatus::InvalidScene`], never a
+/// crash or a query that runs long. The bytes are copied; the scene can be traced, not changed.
 ///
 /// # Safety
 /// `bytes` is valid for reading `len` bytes; `out` is valid for writing one pointer. On
@@ -1041,6 +1044,7 @@ pub unsafe extern "C" fn octoray_scene_store(
 pub unsafe extern "C" fn octoray_scene_load(
     bytes: *const u8,
     len: usize,
+    tier: u32,
     out: *mut *mut OctorayScene,
 ) -> OctorayStatus {
     const CALL: &str = "octoray_scene_load";
@@ -1048,7 +1052,13 @@ pub unsafe extern "C" fn octoray_scene_load(
         // SAFETY: the function's contract.
         let b = unsafe { slice(bytes, len, CALL, "bytes") }?;
         let out = null_check(out, CALL, "out")?;
-        let (tier, loaded) = store::Loaded::new(b)
+        let tier = OctorayTier::from_raw(tier).ok_or_else(|| {
+            fail(
+                OctorayStatus::InvalidArgument,
+                format!("{CALL}: unknown tier {tier}"),
+            )
+        })?;
+        let loaded = store::Loaded::new(b, tier)
             .map_err(|e| fail(OctorayStatus::InvalidScene, format!("{CALL}: {e}")))?;
         let scene = Box::into_raw(Box::new(OctorayScene {
             tier,

@@ -83,7 +83,7 @@ fn store(scene: *const OctorayScene) -> Vec<u8> {
 fn load_and_trace(bytes: &[u8]) -> OctorayStatus {
     let mut scene = null_mut();
     // SAFETY: `bytes` is valid for its length; `scene` for writing.
-    let s = unsafe { octoray_scene_load(bytes.as_ptr(), bytes.len(), &mut scene) };
+    let s = unsafe { octoray_scene_load(bytes.as_ptr(), bytes.len(), 1, &mut scene) };
     if s == OctorayStatus::Ok {
         let (t, hits) = trace(scene, &rays());
         assert_eq!(t, OctorayStatus::Ok);
@@ -115,12 +115,25 @@ fn stored_scenes_load_back_with_the_same_answers_at_every_tier() {
         // SAFETY: valid buffers.
         unsafe {
             assert_eq!(
-                octoray_scene_load(bytes.as_ptr(), bytes.len(), &mut loaded),
+                octoray_scene_load(bytes.as_ptr(), bytes.len(), tier, &mut loaded),
                 OctorayStatus::Ok
             );
             let mut t = 9;
             assert_eq!(octoray_scene_tier(loaded, &mut t), OctorayStatus::Ok);
             assert_eq!(t, tier);
+            // The layout is the tier's: standard scenes load only as standard, watertight and
+            // exact scenes as either; an unknown tier is refused.
+            for other in 0..4 {
+                let mut o = null_mut();
+                let s = octoray_scene_load(bytes.as_ptr(), bytes.len(), other, &mut o);
+                let ok = other < 3 && (other == 0) == (tier == 0);
+                assert_eq!(
+                    s == OctorayStatus::Ok,
+                    ok,
+                    "stored at {tier}, loaded at {other}"
+                );
+                octoray_scene_free(o);
+            }
         }
         assert_eq!(trace(loaded, &rays()), (OctorayStatus::Ok, hits));
         // A loaded scene is read-only.

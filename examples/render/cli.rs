@@ -5,7 +5,7 @@ use super::scene::{Scene, TierArg};
 use octoray::glam::Vec3;
 use std::path::PathBuf;
 
-pub const USAGE: &str = "usage: render [--size WxH] [--output PATH] [--tier auto|standard|watertight|exact|f64|watertight-f64] [--lanes 4|8|16] [--obj PATH] [--camera X,Y,Z] [--look-at X,Y,Z] [--fov DEGREES] [--ao N]\n  --obj alone fits the mesh into the default scene; with --camera the mesh stays where it is (no ground quad) and the camera looks from X,Y,Z\n  --ao N: N ambient-occlusion rays per pixel (0..=256; 0, the default, shades with a constant ambient term)";
+pub const USAGE: &str = "usage: render [--size WxH] [--output PATH] [--tier auto|standard|watertight|exact|f64|watertight-f64] [--lanes 4|8|16] [--obj PATH] [--camera X,Y,Z] [--look-at X,Y,Z] [--fov DEGREES] [--ao N] [--export DIR]\n  --obj alone fits the mesh into the default scene; with --camera the mesh stays where it is (no ground quad) and the camera looks from X,Y,Z\n  --ao N: N ambient-occlusion rays per pixel (0..=256; 0, the default, shades with a constant ambient term)\n  --export DIR: also writes the traced scene (DIR/scene.bin, octoray's stored scene) and the primary rays (DIR/rays.bin, 8 little-endian f32 per ray: origin, direction, t_min, t_max; row by row) for the C ABI's examples (standard, watertight and exact tiers)";
 
 pub struct Options {
     pub width: u32,
@@ -22,6 +22,8 @@ pub struct Options {
     pub fov: Option<f32>,
     /// Ambient-occlusion rays per pixel.
     pub ao: u32,
+    /// Where to write the traced scene and the primary rays.
+    pub export: Option<PathBuf>,
 }
 
 /// Parses `X,Y,Z` (finite).
@@ -53,6 +55,7 @@ pub fn parse(args: &[String]) -> Result<Options, String> {
         look_at: None,
         fov: None,
         ao: 0,
+        export: None,
     };
     let mut it = args.iter();
     while let Some(a) = it.next() {
@@ -89,6 +92,7 @@ pub fn parse(args: &[String]) -> Result<Options, String> {
                 };
             }
             "--obj" => o.obj = Some(value("--obj")?.into()),
+            "--export" => o.export = Some(value("--export")?.into()),
             "--camera" => o.camera = Some(parse_vec3("--camera", &value("--camera")?)?),
             "--look-at" => o.look_at = Some(parse_vec3("--look-at", &value("--look-at")?)?),
             "--ao" => {

@@ -6,7 +6,8 @@
 //!
 //! Run: `cargo run --release --example render` (then open `render.png`).
 //! Options: `--size WxH` (640x400), `--output PATH` (render.png), `--tier auto|standard|
-//! watertight|f64|watertight-f64` (auto), `--lanes 4|8|16` (8), `--obj PATH` (replaces the icosphere).
+//! watertight|f64|watertight-f64` (auto), `--lanes 4|8|16` (8), `--obj PATH` (replaces the icosphere),
+//! `--export DIR` (the scene and primary rays for the C ABI's `render` example).
 //! Triangles and spheres are geometries of one scene (8-wide BVHs under a top-level tree over
 //! the instances; built once, timed and reported), traced by one query per ray set.
 
@@ -15,7 +16,7 @@ mod scene;
 
 use cli::{parse, scene_for, USAGE};
 use indicatif::{ProgressBar, ProgressStyle};
-use scene::{render, resolve_tier, write_png};
+use scene::{export, render, resolve_tier, write_png};
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -64,6 +65,12 @@ fn main() -> ExitCode {
             return ExitCode::from(code);
         }
     };
+    if let Some(dir) = &o.export {
+        if let Err(msg) = export(&scene, tier, o.width, o.height, dir) {
+            eprintln!("render: {msg}");
+            return ExitCode::from(1);
+        }
+    }
     let bar = ProgressBar::new(u64::from(o.height));
     bar.set_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} rows {elapsed}").expect("template"),
@@ -126,6 +133,7 @@ fn main() -> ExitCode {
         lanes,
         why
     );
+    println!("  digest       0x{:016x} (the primary hits)", img.digest);
     println!("  build        {}", flags());
     println!("  wall time    {secs:.3} s");
     ExitCode::SUCCESS

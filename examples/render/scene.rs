@@ -13,6 +13,7 @@ use octoray::shading::Shade;
 use octoray::{f32x16, f32x4, f32x8, ingest};
 use octoray_testkit::camera::Pinhole;
 use rayon::prelude::*;
+use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 use wide::{f64x4, f64x8};
 
@@ -363,6 +364,33 @@ pub struct Image {
     pub trace_secs: f64,
     /// Geometries, trees and instances of the scene as traced.
     pub counts: (usize, usize, usize),
+    /// FNV-1a over the primary hits, row by row (`t`, `u`, `v`, primitive, geometry, instance;
+    /// a miss as `INFINITY, 0, 0` and three `u32::MAX`): the C ABI's examples print the same.
+    pub digest: u64,
+}
+
+/// A hit as the words the digest takes (a miss as the C ABI reports it).
+fn hit_words(h: Option<Hit>) -> [u32; 6] {
+    match h {
+        Some(h) => [
+            h.t.to_bits(),
+            h.u.to_bits(),
+            h.v.to_bits(),
+            h.prim,
+            h.geom,
+            h.inst,
+        ],
+        None => [f32::INFINITY.to_bits(), 0, 0, u32::MAX, u32::MAX, u32::MAX],
+    }
+}
+
+/// FNV-1a over little-endian words.
+fn fnv(words: impl Iterator<Item = u32>) -> u64 {
+    words.fold(0xcbf2_9ce4_8422_2325, |h, w| {
+        w.to_le_bytes()
+            .iter()
+            .fold(h, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3))
+    })
 }
 
 /// The primitives in the layouts the kernels read.
@@ -370,6 +398,29 @@ pub struct Prims {
     packed: Vec<PackedTriangle>,
     verts: Vec<VertexTriangle>,
     spheres: Vec<PackedSphere>,
+}
+
+impl Prims {
+    /// The scene's primitives in every layout.
+    fn new(scene: &Scene) -> Self {
+        Prims {
+            packed: scene
+                .tris
+                .iter()
+                .map(|t| PackedTriangle::new(t[0], t[1], t[2]))
+                .collect(),
+            verts: scene
+                .tris
+                .iter()
+                .map(|t| VertexTriangle::new(t[0], t[1], t[2]))
+                .collect(),
+            spheres: scene
+                .spheres
+                .iter()
+                .map(|&(c, r)| PackedSphere::new(c, r))
+                .collect(),
+        }
+    }
 }
 
 fn sky(d: Vec3) -> Vec3 {
@@ -498,7 +549,9 @@ where
         }
         0.1 * (hi - lo).length()
     };
-    let rows: Vec<(Vec<u8>, Vec<PixelKind>)> = (0..h)
+    // Per row: its pixels, their kinds, and its primary hits as the digest's words.
+    type Row = (Vec<u8>, Vec<PixelKind>, Vec<[u32; 6]>);
+    let rows: Vec<Row> = (0..h)
         .into_par_iter()
         .map(|y| {
             let primary: Vec<Ray> = (0..w).map(|x| scene.camera_ray(x, y, w, h)).collect();
@@ -622,10 +675,12 @@ where
                 kinds.push(kind);
             }
             progress(1);
-            (rgb, kinds)
+            (rgb, kinds, hits.into_iter().map(hit_words).collect())
         })
         .collect();
-    let (rgb, kinds): (Vec<Vec<u8>>, Vec<Vec<PixelKind>>) = rows.into_iter().unzip();
+    let digest = fnv(rows.iter().flat_map(|r| r.2.iter().flatten().copied()));
+    let (rgb, kinds): (Vec<Vec<u8>>, Vec<Vec<PixelKind>>) =
+        rows.into_iter().map(|(a, b, _)| (a, b)).unzip();
     Image {
         width: w,
         height: h,
@@ -639,7 +694,46 @@ where
             world.trees().len(),
             world.instances().len(),
         ),
+        digest,
     }
+}
+
+/// Writes the scene as `tier` traces it to `dir/scene.bin` (`SceneRef::to_words`,
+/// little-endian) and the primary rays of a `w`×`h` image to `dir/rays.bin` (origin,
+/// direction, `t_min`, `t_max` as little-endian f32, row by row).
+pub fn export(scene: &Scene, tier: TierArg, w: u32, h: u32, dir: &Path) -> Result<(), String> {
+    let prims = Prims::new(scene);
+    let words = match tier {
+        TierArg::Standard => Traced::new(scene, &prims.packed, &prims.spheres)
+            .world
+            .as_ref()
+            .to_words(),
+        TierArg::Watertight | TierArg::Exact => Traced::new(scene, &prims.verts, &prims.spheres)
+            .world
+            .as_ref()
+            .to_words(),
+        t => return Err(format!("--export: the C ABI has no {} tier", t.name())),
+    };
+    let rays = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .flat_map(|(x, y)| {
+            let r = scene.camera_ray(x, y, w, h);
+            [
+                r.origin.x, r.origin.y, r.origin.z, r.dir.x, r.dir.y, r.dir.z, r.t_min, r.t_max,
+            ]
+            .map(f32::to_bits)
+        });
+    let bytes =
+        |w: &mut dyn Iterator<Item = u32>| w.flat_map(u32::to_le_bytes).collect::<Vec<u8>>();
+    std::fs::create_dir_all(dir).map_err(|e| format!("--export: {}: {e}", dir.display()))?;
+    for (name, data) in [
+        ("scene.bin", bytes(&mut words.into_iter())),
+        ("rays.bin", bytes(&mut rays.into_iter())),
+    ] {
+        let path = dir.join(name);
+        std::fs::write(&path, data).map_err(|e| format!("--export: {}: {e}", path.display()))?;
+    }
+    Ok(())
 }
 
 /// Renders `scene` at `w`×`h` with `tier` (already resolved, not `Auto`) at `lanes` ∈ {4, 8,
@@ -652,23 +746,7 @@ pub fn render(
     h: u32,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Image, String> {
-    let prims = Prims {
-        packed: scene
-            .tris
-            .iter()
-            .map(|t| PackedTriangle::new(t[0], t[1], t[2]))
-            .collect(),
-        verts: scene
-            .tris
-            .iter()
-            .map(|t| VertexTriangle::new(t[0], t[1], t[2]))
-            .collect(),
-        spheres: scene
-            .spheres
-            .iter()
-            .map(|&(c, r)| PackedSphere::new(c, r))
-            .collect(),
-    };
+    let prims = Prims::new(scene);
     Ok(match (tier, lanes) {
         (TierArg::Standard, 4) => {
             render_with::<f32x4, MollerTrumbore>(scene, &prims, &prims.packed, w, h, progress)

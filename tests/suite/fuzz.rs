@@ -941,6 +941,27 @@ fn run_scene(rng: &mut Rng) {
         }
         let _ = b.closest_packet::<f32x8, Watertight, StableSphere>(&RayLanes::load(&rays), !0);
     }
+    // The stored words, corrupted anywhere (header included) or cut short: rejected, or traced
+    // within bounds.
+    let mut words = r.to_words();
+    for _ in 0..1 + rng.below(3) {
+        let k = rng.below(words.len() as u64) as usize;
+        words[k] = match rng.below(3) {
+            0 => rng.next_u64() as u32,
+            1 => words[k] ^ (1 << rng.below(32)),
+            _ => u32::MAX,
+        };
+    }
+    let cut = words.len() - rng.below(2) as usize * rng.below(words.len() as u64) as usize;
+    if let Ok(b) = SceneRef::<VertexTriangle, PackedSphere>::from_words(&words[..cut]) {
+        for ray in &rays[..4] {
+            if let Some(h) = b.closest_ray::<f32x8, Watertight, StableSphere>(ray, !0) {
+                check_hit(&h, ray, "corrupted stored scene");
+                assert!((h.geom as usize) < b.geometries().len());
+                assert!((h.inst as usize) < b.instances().len());
+            }
+        }
+    }
 }
 
 fn closest_ray_counting(bvh: octoray::bvh::Bvh8Ref<'_, VertexTriangle>, r: &Ray) -> Option<Hit> {

@@ -651,6 +651,38 @@ fn stored_scenes_validate_and_corrupted_ones_never_panic() {
     }
 }
 
+/// A scene stored as words (`SceneRef::to_words`) reads back in place and answers the same; words
+/// of another layout, a changed header word and truncations are refused with `BadWords` or a
+/// validation error, never a panic.
+#[test]
+fn scenes_stored_as_words_read_back_and_bad_words_are_refused() {
+    for seed in 0..8u64 {
+        let (w, rays) = world(seed * 31 + 5, pack_vertex);
+        let scene = w.scene();
+        let words = scene.as_ref().to_words();
+        let back = SceneRef::<VertexTriangle, PackedSphere>::from_words(&words).unwrap();
+        check::<f32x8, f32, Watertight, StableSphere>(&w, back, &rays, &MASKS[..1]);
+        assert!(matches!(
+            SceneRef::<PackedTriangle, PackedSphere>::from_words(&words),
+            Err(SceneError::BadWords(_))
+        ));
+        // The header: the magic, the layouts and the 14 section lengths.
+        for i in 0..17 {
+            for v in [words[i].wrapping_add(1), words[i].wrapping_sub(1), u32::MAX] {
+                let mut bad = words.clone();
+                bad[i] = v;
+                let r = SceneRef::<VertexTriangle, PackedSphere>::from_words(&bad);
+                assert!(r.is_err(), "header word {i} = {v}");
+            }
+        }
+        let mut rng = Rng(seed);
+        for _ in 0..64 {
+            let n = rng.below(words.len() as u64) as usize;
+            assert!(SceneRef::<VertexTriangle, PackedSphere>::from_words(&words[..n]).is_err());
+        }
+    }
+}
+
 #[test]
 fn malformed_scenes_name_what_is_wrong() {
     let (w, _) = world(7, pack_vertex);

@@ -47,6 +47,7 @@
 
 #[cfg(feature = "alloc")]
 mod build;
+mod store;
 mod transform;
 
 #[cfg(feature = "alloc")]
@@ -229,6 +230,8 @@ pub enum SceneError {
     },
     /// More geometries or instances than `u32` indices.
     TooMany,
+    /// Stored words ([`SceneRef::from_words`]) are not laid out as a stored scene (the reason).
+    BadWords(&'static str),
 }
 
 impl core::fmt::Display for SceneError {
@@ -257,6 +260,7 @@ impl core::fmt::Display for SceneError {
                 )
             }
             SceneError::TooMany => write!(f, "more geometries or instances than u32 indices"),
+            SceneError::BadWords(why) => write!(f, "stored scene words: {why}"),
         }
     }
 }
