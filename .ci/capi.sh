@@ -18,9 +18,9 @@ if ! have gcc || ! have g++; then
   exit 0
 fi
 
-# The test profile: what the test suite built already.
-cargo build --quiet --profile test -p octoray-capi --lib --example digest
-cargo build --quiet --profile test --example render
+# The test profile and the workspace's feature set: what `cargo test --workspace` built already
+# (a narrower selection would resolve other features and rebuild the demo).
+cargo build --quiet --profile test --workspace --lib --examples
 lib=target/debug/liboctoray_capi.a
 out=target/capi
 mkdir -p "$out"
