@@ -182,8 +182,8 @@ enum OctorayStatus octoray_scene_add_spheres(struct OctorayScene *scene,
                                              size_t count,
                                              uint32_t *geom);
 
-// Places geometries (one bottom-level tree over all of them, shared by every instance of the
-// same set) with `object_to_world`, 12 floats: a 3×4 row-major matrix `[A | b]` mapping object
+// Places geometries of one kind (all meshes or all sphere sets; one bottom-level tree over all
+// of them, shared by every instance of the same set) with `object_to_world`, 12 floats: a 3×4 row-major matrix `[A | b]` mapping object
 // to world (null for the identity), and a mask ANDed with each query's. Its instance ID goes
 // to `*inst`. Rays are carried into object space by the inverse, formed in f64 and rounded
 // once (`octoray::scene::Transform::placing`).

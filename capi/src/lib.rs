@@ -546,8 +546,8 @@ pub unsafe extern "C" fn octoray_scene_add_spheres(
     })
 }
 
-/// Places geometries (one bottom-level tree over all of them, shared by every instance of the
-/// same set) with `object_to_world`, 12 floats: a 3×4 row-major matrix `[A | b]` mapping object
+/// Places geometries of one kind (all meshes or all sphere sets; one bottom-level tree over all
+/// of them, shared by every instance of the same set) with `object_to_world`, 12 floats: a 3×4 row-major matrix `[A | b]` mapping object
 /// to world (null for the identity), and a mask ANDed with each query's. Its instance ID goes
 /// to `*inst`. Rays are carried into object space by the inverse, formed in f64 and rounded
 /// once (`octoray::scene::Transform::placing`).
@@ -595,8 +595,8 @@ pub unsafe extern "C" fn octoray_scene_add_instance(
             })?
         };
         let known = match &s.body {
-            Body::Packed(sc) => sc.geometries().len(),
-            Body::Vertex(sc) => sc.geometries().len(),
+            Body::Packed(sc) => sc.geometries(),
+            Body::Vertex(sc) => sc.geometries(),
             Body::Loaded(_) => return Err(read_only(CALL)),
         };
         if ids.is_empty() {
@@ -605,10 +605,18 @@ pub unsafe extern "C" fn octoray_scene_add_instance(
                 format!("{CALL}: no geometries"),
             ));
         }
-        if let Some(&g) = ids.iter().find(|&&g| g as usize >= known) {
+        if let Some(&g) = ids.iter().find(|&&g| g as usize >= known.len()) {
             return Err(fail(
                 OctorayStatus::InvalidArgument,
                 format!("{CALL}: no geometry {g}"),
+            ));
+        }
+        // One tree per instance: its geometries are all meshes or all sphere sets.
+        let kind = |g: u32| known[g as usize].kind;
+        if ids.iter().any(|&g| kind(g) != kind(ids[0])) {
+            return Err(fail(
+                OctorayStatus::InvalidArgument,
+                format!("{CALL}: an instance places meshes or sphere sets, not both"),
             ));
         }
         let id = match &mut s.body {

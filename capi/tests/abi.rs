@@ -245,6 +245,17 @@ fn every_failure_is_a_status_with_a_message() {
             octoray_scene_add_mesh(scene, v.as_ptr(), 3, ok.as_ptr(), 1, &mut g),
             OctorayStatus::Ok
         );
+        let (ball, mut b) = ([0.0f32, 0.0, 0.0, 1.0], 0);
+        assert_eq!(
+            octoray_scene_add_spheres(scene, ball.as_ptr(), 1, &mut b),
+            OctorayStatus::Ok
+        );
+        let mixed = [g, b];
+        assert_eq!(
+            octoray_scene_add_instance(scene, mixed.as_ptr(), 2, null(), 1, &mut b),
+            OctorayStatus::InvalidArgument
+        );
+        assert!(last_error().contains("not both"), "{}", last_error());
         let singular = [0.0f32; 12];
         assert_eq!(
             octoray_scene_add_instance(scene, &g, 1, singular.as_ptr(), 1, &mut g),
