@@ -487,8 +487,7 @@ impl<T: Primitive + Sync> Traced<T> {
         if let Some(g) = ground {
             world.add_instance(&[g], Transform::IDENTITY, !0);
         }
-        world.add_instance(&[balls], Transform::IDENTITY, !0);
-        let first_field = world.instances().len() as u32;
+        let first_field = world.add_instance(&[balls], Transform::IDENTITY, !0) + 1;
         for a in &scene.field {
             // A placement that cannot be inverted (a zero scale) places nothing.
             if let Some(t) = Transform::placing(*a) {

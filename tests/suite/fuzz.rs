@@ -756,16 +756,26 @@ fn run_scene(rng: &mut Rng) {
             geoms.push((false, tris, vec![]));
         }
     }
-    let mut places: Vec<(Vec<u32>, Transform, u32)> = Vec::new();
-    for _ in 0..1 + rng.below(10) {
-        let first = rng.below(n_geoms as u64) as usize;
-        let set: Vec<u32> = if rng.below(3) == 0 {
-            (0..n_geoms)
-                .filter(|&g| geoms[g].0 == geoms[first].0)
-                .map(|g| g as u32)
-                .collect()
+    // What a placement places: a set of geometries, or a group.
+    #[derive(Debug, Clone)]
+    enum Target {
+        Set(Vec<u32>),
+        Group(usize),
+    }
+    type Place = (Target, Transform, u32);
+    let place = |rng: &mut Rng, groups: usize| -> Place {
+        let target = if groups > 0 && rng.below(3) == 0 {
+            Target::Group(rng.below(groups as u64) as usize)
         } else {
-            vec![first as u32]
+            let first = rng.below(n_geoms as u64) as usize;
+            Target::Set(if rng.below(3) == 0 {
+                (0..n_geoms)
+                    .filter(|&g| geoms[g].0 == geoms[first].0)
+                    .map(|g| g as u32)
+                    .collect()
+            } else {
+                vec![first as u32]
+            })
         };
         let mut t = Transform::IDENTITY;
         match rng.below(4) {
@@ -790,8 +800,32 @@ fn run_scene(rng: &mut Rng) {
             }
         }
         let mask = if rng.below(4) == 0 { 1 } else { !0 };
-        scene.add_instance(&set, t, mask);
-        places.push((set, t, mask));
+        (target, t, mask)
+    };
+    // Now and then a chain of groups (each may hold the ones before it: three at most, so
+    // paths stay within the levels allowed).
+    let mut groups: Vec<Vec<Place>> = Vec::new();
+    for g in 0..rng.below(4) as usize {
+        let id = scene.add_group();
+        let mut list = Vec::new();
+        for _ in 0..1 + rng.below(4) {
+            let p = place(rng, g);
+            match &p.0 {
+                Target::Set(set) => scene.add_to_group(id, set, p.1, p.2),
+                Target::Group(c) => scene.place_group(Some(id), *c as u32, p.1, p.2),
+            };
+            list.push(p);
+        }
+        groups.push(list);
+    }
+    let mut places: Vec<Place> = Vec::new();
+    for _ in 0..1 + rng.below(10) {
+        let p = place(rng, groups.len());
+        match &p.0 {
+            Target::Set(set) => scene.add_instance(set, p.1, p.2),
+            Target::Group(c) => scene.place_group(None, *c as u32, p.1, p.2),
+        };
+        places.push(p);
     }
     // Now and then, a refit to hostile vertices first.
     if rng.below(3) == 0 {
@@ -814,31 +848,67 @@ fn run_scene(rng: &mut Rng) {
     let r = scene.as_ref();
     let rays: Vec<Ray> = (0..16).map(|_| case(rng).0).collect();
     let mask = if rng.below(3) == 0 { 1 } else { !0 };
-    let brute = |ray: &Ray, filter: &dyn Fn(u32, u32, &Hit) -> bool| {
-        let mut best: Option<Hit> = None;
-        for (i, (set, t, m)) in places.iter().enumerate() {
-            let obj = RayLanes::<f32>::single(&t.apply(ray));
+    // Brute force over the instance paths, depth first (a path's number is its `inst`).
+    #[allow(clippy::too_many_arguments)]
+    fn level(
+        list: &[Place],
+        groups: &[Vec<Place>],
+        geoms: &[(bool, Vec<VertexTriangle>, Vec<PackedSphere>)],
+        masks: &[u32],
+        ray: &Ray,
+        mask: u32,
+        path: &mut u32,
+        filter: &dyn Fn(u32, u32, &Hit) -> bool,
+        best: &mut Option<Hit>,
+    ) {
+        for (target, t, m) in list {
+            let obj = t.apply(ray);
+            let set = match target {
+                Target::Group(c) => {
+                    level(
+                        &groups[*c],
+                        groups,
+                        geoms,
+                        masks,
+                        &obj,
+                        mask & m,
+                        path,
+                        filter,
+                        best,
+                    );
+                    continue;
+                }
+                Target::Set(set) => set,
+            };
             for &g in set {
                 let geo = &geoms[g as usize];
-                let gm = scene.geometries()[g as usize].mask;
-                if m & gm & mask == 0 {
+                if m & masks[g as usize] & mask == 0 {
                     continue;
                 }
                 let n = if geo.0 { geo.2.len() } else { geo.1.len() };
                 for k in 0..n {
                     let h = if geo.0 {
-                        octoray::intersect::<f32, StableSphere>(&obj.ray(0), &geo.2[k])
+                        octoray::intersect::<f32, StableSphere>(&obj, &geo.2[k])
                     } else {
-                        octoray::intersect::<f32, Watertight>(&obj.ray(0), &geo.1[k])
+                        octoray::intersect::<f32, Watertight>(&obj, &geo.1[k])
                     };
                     let Some(mut h) = h else { continue };
-                    (h.prim, h.geom, h.inst) = (k as u32, g, i as u32);
-                    if filter(g, i as u32, &h) && best.is_none_or(|b| h.t < b.t) {
-                        best = Some(h);
+                    (h.prim, h.geom, h.inst) = (k as u32, g, *path);
+                    if filter(g, *path, &h) && best.is_none_or(|b| h.t < b.t) {
+                        *best = Some(h);
                     }
                 }
             }
+            *path += 1;
         }
+    }
+    let masks: Vec<u32> = scene.geometries().iter().map(|g| g.mask).collect();
+    let brute = |ray: &Ray, filter: &dyn Fn(u32, u32, &Hit) -> bool| {
+        let mut best: Option<Hit> = None;
+        let mut path = 0;
+        level(
+            &places, &groups, &geoms, &masks, ray, mask, &mut path, filter, &mut best,
+        );
         best
     };
     let odd = |h: &Hit| (h.prim + h.inst).is_multiple_of(2);
@@ -930,13 +1000,13 @@ fn run_scene(rng: &mut Rng) {
             if let Some(h) = b.closest_ray::<f32x8, testkit::trees::Counting, StableSphere>(ray, !0)
             {
                 check_hit(&h, ray, "corrupted scene");
-                assert!((h.geom as usize) < g.len() && (h.inst as usize) < ins.len());
+                assert!((h.geom as usize) < g.len() && b.instance_path(h.inst).is_some());
             }
             let tests = testkit::trees::take_leaf_tests();
+            let visits = tree_visits(&b, b.world());
             assert!(
-                tests <= (ins.len() + unb.len()) * blocks.max(1),
-                "{tests} leaf tests over {blocks} blocks and {} instances",
-                ins.len()
+                tests <= visits * blocks.max(1),
+                "{tests} leaf tests over {blocks} blocks and {visits} visits of trees"
             );
         }
         let _ = b.closest_packet::<f32x8, Watertight, StableSphere>(&RayLanes::load(&rays), !0);
@@ -958,10 +1028,31 @@ fn run_scene(rng: &mut Rng) {
             if let Some(h) = b.closest_ray::<f32x8, Watertight, StableSphere>(ray, !0) {
                 check_hit(&h, ray, "corrupted stored scene");
                 assert!((h.geom as usize) < b.geometries().len());
-                assert!((h.inst as usize) < b.instances().len());
+                assert!(b.instance_path(h.inst).is_some());
             }
         }
     }
+}
+
+/// The most visits of geometry trees a ray can make through `level` of a validated scene: each
+/// used slot of its tree and each unbounded entry once, a group's visits below it.
+fn tree_visits(
+    s: &octoray::scene::SceneRef<'_, VertexTriangle, PackedSphere>,
+    level: octoray::scene::Level<'_>,
+) -> usize {
+    let visits = |inst: u32| match s.instance_tree(inst) {
+        Some((_, octoray::scene::TreeRef::Instances(l))) => tree_visits(s, l),
+        _ => 1,
+    };
+    level
+        .top
+        .ids()
+        .iter()
+        // Padding slots name no instance.
+        .filter(|&&k| (k as usize) < level.instances.len())
+        .map(|&k| visits(level.first + k))
+        .chain(level.unbounded.iter().map(|&i| visits(i)))
+        .sum()
 }
 
 fn closest_ray_counting(bvh: octoray::bvh::Bvh8Ref<'_, VertexTriangle>, r: &Ray) -> Option<Hit> {

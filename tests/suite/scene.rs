@@ -27,18 +27,31 @@ enum Geom<T> {
     Spheres(Vec<PackedSphere>),
 }
 
-/// A placement of a set of geometries (sorted, one kind).
+/// What a placement places.
+#[derive(Clone)]
+enum Target {
+    /// A set of geometries (sorted, one kind).
+    Geoms(Vec<u32>),
+    /// A group (of the world's list).
+    Group(usize),
+}
+
+/// A placement of a set of geometries or a group.
 #[derive(Clone)]
 struct Place {
-    geoms: Vec<u32>,
+    target: Target,
     transform: Transform,
     mask: u32,
 }
 
-/// A test world: geometries (with masks), instances, and the scene built from them.
+/// A test world: geometries (with masks), groups (each holding earlier groups), the world's
+/// instances, and the scene built from them; brute force drops the hits of instance path
+/// `banned` (what a filter rejecting it leaves).
 struct World<T> {
     geoms: Vec<(Geom<T>, u32)>,
+    groups: Vec<Vec<Place>>,
     insts: Vec<Place>,
+    banned: Option<u32>,
 }
 
 impl<T: Primitive + Sync> World<T> {
@@ -51,8 +64,22 @@ impl<T: Primitive + Sync> World<T> {
             };
             s.set_geometry_mask(id, *mask);
         }
+        for (g, places) in self.groups.iter().enumerate() {
+            assert_eq!(s.add_group(), g as u32);
+            for i in places {
+                match &i.target {
+                    Target::Geoms(geoms) => s.add_to_group(g as u32, geoms, i.transform, i.mask),
+                    Target::Group(c) => {
+                        s.place_group(Some(g as u32), *c as u32, i.transform, i.mask)
+                    }
+                };
+            }
+        }
         for i in &self.insts {
-            s.add_instance(&i.geoms, i.transform, i.mask);
+            match &i.target {
+                Target::Geoms(geoms) => s.add_instance(geoms, i.transform, i.mask),
+                Target::Group(c) => s.place_group(None, *c as u32, i.transform, i.mask),
+            };
         }
         s.commit();
         s
@@ -85,11 +112,40 @@ where
 {
     let mut best: Option<(S1::Scalar, Hit)> = None;
     let mut any = false;
-    for (i, inst) in w.insts.iter().enumerate() {
-        let r = RayLanes::<S1>::single(&inst.transform.apply(ray));
-        for &geom in &inst.geoms {
+    let mut path = 0;
+    brute_level::<S1, KT, KS>(w, &w.insts, ray, mask, &mut path, &mut best, &mut any);
+    (best.map(|b| b.1), any)
+}
+
+/// [`brute`] over one level's placements, the ray in its space, `mask` the AND of the query's
+/// and the placements' above; `path` counts the instance paths depth first.
+#[allow(clippy::too_many_arguments)]
+fn brute_level<S1: Lanes, KT, KS>(
+    w: &World<<KT as Kernel<S1>>::Prim>,
+    places: &[Place],
+    ray: &Ray,
+    mask: u32,
+    path: &mut u32,
+    best: &mut Option<(S1::Scalar, Hit)>,
+    any: &mut bool,
+) where
+    KT: Kernel<S1>,
+    KS: Kernel<S1, Prim = PackedSphere>,
+{
+    for inst in places {
+        let ray = inst.transform.apply(ray);
+        let geoms = match &inst.target {
+            Target::Group(g) => {
+                let places = &w.groups[*g];
+                brute_level::<S1, KT, KS>(w, places, &ray, mask & inst.mask, path, best, any);
+                continue;
+            }
+            Target::Geoms(geoms) => geoms,
+        };
+        let r = RayLanes::<S1>::single(&ray);
+        for &geom in geoms {
             let (g, gmask) = &w.geoms[geom as usize];
-            if inst.mask & gmask & mask == 0 {
+            if inst.mask & gmask & mask == 0 || w.banned == Some(*path) {
                 continue;
             }
             let (h, occ) = match g {
@@ -102,18 +158,18 @@ where
                     query::occluded::<S1, KS>(&r, p),
                 ),
             };
-            any |= occ.bitmask() & 1 == 1;
+            *any |= occ.bitmask() & 1 == 1;
             if let Some(mut hit) = h.lane(0) {
                 hit.geom = geom;
-                hit.inst = i as u32;
+                hit.inst = *path;
                 let t = h.t.lane(0);
                 if best.is_none_or(|(bt, _)| t < bt) {
-                    best = Some((t, hit));
+                    *best = Some((t, hit));
                 }
             }
         }
+        *path += 1;
     }
-    (best.map(|b| b.1), any)
 }
 
 /// Every scene query (single, packet, slice; closest and occlusion) at width `L` equals brute
@@ -267,49 +323,113 @@ fn world<T: Primitive + Sync>(seed: u64, pack: fn(&[[Vec3; 3]]) -> Vec<T>) -> (W
             geoms.push((Geom::Tris(pack(&m)), mask));
         }
     }
-    // Mostly a few instances; now and then enough for a top-level tree of several levels.
-    let most = if rng.below(3) == 0 { 150 } else { 12 };
-    let n_inst = 1 + rng.below(most) as usize;
-    let mut insts = Vec::new();
-    let mut targets = Vec::new();
-    for k in 0..n_inst {
-        // One geometry, or now and then every geometry of its kind (one tree over several).
-        let first = rng.below(n_geoms as u64) as usize;
-        let spheres = |g: &Geom<T>| matches!(g, Geom::Spheres(_));
-        let set: Vec<u32> = if rng.below(3) == 0 {
-            (0..n_geoms)
-                .filter(|&g| spheres(&geoms[g].0) == spheres(&geoms[first].0))
-                .map(|g| g as u32)
-                .collect()
+    // World points of each geometry set or group, in the space that places it.
+    let spheres = |g: &Geom<T>| matches!(g, Geom::Spheres(_));
+    let place = |rng: &mut Rng,
+                 groups: &[Vec<Place>],
+                 group_points: &[Vec<Vec3>],
+                 k: usize,
+                 levels: &[usize],
+                 max_levels: usize,
+                 prev: Option<&Place>| {
+        let usable: Vec<usize> = (0..groups.len())
+            .filter(|&g| levels[g] < max_levels)
+            .collect();
+        // Now and then a group; else one geometry, or every geometry of its kind.
+        let target = if !usable.is_empty() && rng.below(3) == 0 {
+            Target::Group(usable[rng.below(usable.len() as u64) as usize])
         } else {
-            vec![first as u32]
+            let first = rng.below(n_geoms as u64) as usize;
+            Target::Geoms(if rng.below(3) == 0 {
+                (0..n_geoms)
+                    .filter(|&g| spheres(&geoms[g].0) == spheres(&geoms[first].0))
+                    .map(|g| g as u32)
+                    .collect()
+            } else {
+                vec![first as u32]
+            })
         };
         // Now and then the same placement twice: ties across instances.
-        let transform = if k > 0 && rng.below(6) == 0 {
-            insts
-                .last()
-                .map_or(Transform::IDENTITY, |i: &Place| i.transform)
-        } else {
-            transform(&mut rng, s)
+        let transform = match prev {
+            Some(p) if k > 0 && rng.below(6) == 0 => p.transform,
+            _ => transform(rng, s),
         };
         let mask = if rng.below(4) == 0 {
             1 << rng.below(4)
         } else {
             u32::MAX
         };
-        // World points of the geometries: object points mapped back (approximately).
+        // Points of what it places, mapped back (approximately).
+        let mut points = Vec::new();
         if let Some(inv) = inverse_affine(&transform) {
-            for &g in &set {
-                for p in &local[g as usize] {
-                    targets.push(inv.transform_point3(*p));
-                }
-            }
+            let local: Vec<Vec3> = match &target {
+                Target::Geoms(set) => set
+                    .iter()
+                    .flat_map(|&g| local[g as usize].clone())
+                    .collect(),
+                Target::Group(g) => group_points[*g].clone(),
+            };
+            points.extend(local.iter().map(|p| inv.transform_point3(*p)));
         }
-        insts.push(Place {
-            geoms: set,
-            transform,
-            mask,
-        });
+        (
+            Place {
+                target,
+                transform,
+                mask,
+            },
+            points,
+        )
+    };
+    // Now and then groups (each may hold earlier ones, up to the deepest paths allowed).
+    let mut groups: Vec<Vec<Place>> = Vec::new();
+    let mut group_points: Vec<Vec<Vec3>> = Vec::new();
+    let mut levels: Vec<usize> = Vec::new();
+    let max = octoray::scene::MAX_INSTANCE_LEVELS as usize;
+    if rng.below(2) == 0 {
+        for _ in 0..1 + rng.below(4) {
+            let mut places: Vec<Place> = Vec::new();
+            let mut points = Vec::new();
+            let mut depth = 0;
+            for k in 0..1 + rng.below(5) as usize {
+                let (p, pts) = place(
+                    &mut rng,
+                    &groups,
+                    &group_points,
+                    k,
+                    &levels,
+                    max - 1,
+                    places.last(),
+                );
+                if let Target::Group(c) = p.target {
+                    depth = depth.max(levels[c]);
+                }
+                points.extend(pts);
+                places.push(p);
+            }
+            // Keep the points a handful (aiming only).
+            points.truncate(64);
+            groups.push(places);
+            group_points.push(points);
+            levels.push(depth + 1);
+        }
+    }
+    // Mostly a few instances; now and then enough for a top-level tree of several levels.
+    let most = if rng.below(3) == 0 { 150 } else { 12 };
+    let n_inst = 1 + rng.below(most) as usize;
+    let mut insts: Vec<Place> = Vec::new();
+    let mut targets = Vec::new();
+    for k in 0..n_inst {
+        let (p, pts) = place(
+            &mut rng,
+            &groups,
+            &group_points,
+            k,
+            &levels,
+            max,
+            insts.last(),
+        );
+        targets.extend(pts);
+        insts.push(p);
     }
     if targets.is_empty() {
         targets.push(Vec3::ZERO);
@@ -341,7 +461,15 @@ fn world<T: Primitive + Sync>(seed: u64, pack: fn(&[[Vec3; 3]]) -> Vec<T>) -> (W
         s,
         4,
     ));
-    (World { geoms, insts }, rays)
+    (
+        World {
+            geoms,
+            groups,
+            insts,
+            banned: None,
+        },
+        rays,
+    )
 }
 
 /// The object → world map of a transform, in f32 (for aiming rays only).
@@ -403,6 +531,22 @@ fn many_scene_hits_are_checked() {
         hits > 1000,
         "only {hits} hits: the suite would not test much"
     );
+    // Hits through groups, by path length: the suite's worlds reach every level.
+    let mut by_len = [0usize; octoray::scene::MAX_INSTANCE_LEVELS as usize + 1];
+    for seed in 0..24 {
+        let (w, rays) = world(seed * 7919, pack_vertex);
+        let scene = w.scene();
+        let r = scene.as_ref();
+        for ray in &rays {
+            if let Some(h) = r.closest_ray::<f32x8, Watertight, StableSphere>(ray, !0) {
+                by_len[r.instance_path(h.inst).unwrap().as_slice().len()] += 1;
+            }
+        }
+    }
+    assert!(
+        by_len[2] > 100 && by_len[3] > 20 && by_len[4] > 0,
+        "hits by path length {by_len:?}: nesting would not be tested much"
+    );
 }
 
 /// The tie rule across instances: two instances of one mesh at one place report the lower.
@@ -447,16 +591,25 @@ fn filters_see_geometry_and_instance() {
         let (w, rays) = world(seed * 31 + 5, pack_vertex);
         let scene = w.scene();
         let r = scene.as_ref();
-        let banned = (seed % w.insts.len() as u64) as u32;
-        let mut without = World {
+        let paths = r
+            .world()
+            .instances
+            .last()
+            .map_or(0, |i| i.path + r.trees()[i.tree as usize].paths);
+        let banned = (seed % u64::from(paths)) as u32;
+        let without = World {
             geoms: w.geoms.clone(),
+            groups: w.groups.clone(),
             insts: w.insts.clone(),
+            banned: Some(banned),
         };
-        without.insts[banned as usize].mask = 0;
         for (k, ray) in rays.iter().enumerate() {
             let mut seen_ok = true;
             let mut filter = |c: &Candidate| {
-                seen_ok &= w.insts[c.inst as usize].geoms.contains(&c.geom) && c.ray == 0;
+                let leaf = r.instance_path(c.inst).map(|p| p.leaf());
+                let tree = leaf.map(|k| r.instances()[k as usize].tree);
+                seen_ok &= tree.is_some_and(|t| r.members(t).iter().any(|m| m.geom == c.geom))
+                    && c.ray == 0;
                 c.inst != banned
             };
             let got =
@@ -518,6 +671,14 @@ fn refit_and_moved_instances_equal_brute_force() {
             if rng.below(2) == 0 {
                 inst.transform = transform(&mut rng, 1.0);
                 scene.set_transform(i as u32, inst.transform);
+            }
+        }
+        for (g, places) in w.groups.iter_mut().enumerate() {
+            for (k, inst) in places.iter_mut().enumerate() {
+                if rng.below(3) == 0 {
+                    inst.transform = transform(&mut rng, 1.0);
+                    scene.set_group_transform(g as u32, k as u32, inst.transform);
+                }
             }
         }
         scene.commit();
@@ -635,7 +796,8 @@ fn stored_scenes_validate_and_corrupted_ones_never_panic() {
                 Ok(r) => {
                     for ray in &rays {
                         if let Some(h) = r.closest_ray::<f32x8, Watertight, StableSphere>(ray, !0) {
-                            let inst = &r.instances()[h.inst as usize];
+                            let path = r.instance_path(h.inst).expect("a reported path");
+                            let inst = &r.instances()[path.leaf() as usize];
                             let tree = &r.trees()[inst.tree as usize];
                             assert!(h.geom < r.geometries().len() as u32);
                             assert!(h.prim < tree.prims);
@@ -685,7 +847,8 @@ fn scenes_stored_as_words_read_back_and_bad_words_are_refused() {
 
 #[test]
 fn malformed_scenes_name_what_is_wrong() {
-    let (w, _) = world(7, pack_vertex);
+    let flat = (7..).find(|&seed| world(seed, pack_vertex).0.groups.is_empty());
+    let (w, _) = world(flat.unwrap(), pack_vertex);
     let scene = w.scene();
     let mut s = Stored::of(&scene.parts());
     s.insts[0].tree = 1000;
@@ -713,6 +876,131 @@ fn malformed_scenes_name_what_is_wrong() {
             at: s.unbounded.len() - 1
         }
     );
+    let mut s = Stored::of(&scene.parts());
+    s.insts[0].path = 1;
+    assert_eq!(
+        SceneRef::<VertexTriangle, PackedSphere>::new(s.parts()).unwrap_err(),
+        SceneError::BadInstance { inst: 0 }
+    );
+
+    // Groups: a tree of three levels of groups placed in the world.
+    let (nested, _) = nested_scene();
+    let parts = nested.parts();
+    let group = |s: &Stored| {
+        s.trees
+            .iter()
+            .position(|t| t.kind == octoray::scene::INSTANCES)
+            .unwrap()
+    };
+    let s = Stored::of(&parts);
+    let (g0, last) = (group(&s), s.trees.len() - 1);
+    assert!(SceneRef::<VertexTriangle, PackedSphere>::new(s.parts()).is_ok());
+    // A group's instance placing a tree that does not come before it (a cycle).
+    let mut s = Stored::of(&parts);
+    let first = s.trees[g0].first_member as usize;
+    s.insts[first].tree = g0 as u32;
+    assert_eq!(
+        SceneRef::<VertexTriangle, PackedSphere>::new(s.parts()).unwrap_err(),
+        SceneError::BadInstance { inst: first }
+    );
+    // Levels, paths, mask and slack are what the instances make them.
+    for corrupt in [
+        (|t: &mut SceneTree| t.levels += 1) as fn(&mut SceneTree),
+        |t| t.paths += 1,
+        |t| t.mask ^= 1,
+        |t| t.slack *= 2.0,
+        |t| t.first_unbounded += 1,
+    ] {
+        let mut s = Stored::of(&parts);
+        corrupt(&mut s.trees[last]);
+        assert_eq!(
+            SceneRef::<VertexTriangle, PackedSphere>::new(s.parts()).unwrap_err(),
+            SceneError::BadGroup { tree: last },
+        );
+    }
+    // Deeper than MAX_INSTANCE_LEVELS: refused when built, and when stored.
+    let mut deep = Scene::<VertexTriangle, PackedSphere>::new();
+    let g = deep
+        .add_triangles(&pack_vertex(&[[Vec3::X, Vec3::Y, Vec3::Z]]))
+        .unwrap();
+    let mut below = deep.add_group();
+    deep.add_to_group(below, &[g], Transform::IDENTITY, !0);
+    for _ in 1..octoray::scene::MAX_INSTANCE_LEVELS {
+        let above = deep.add_group();
+        deep.place_group(Some(above), below, Transform::IDENTITY, !0);
+        below = above;
+    }
+    deep.place_group(None, below, Transform::IDENTITY, !0);
+    assert_eq!(
+        deep.commit_with(&octoray::bvh::Sequential),
+        Err(octoray::bvh::BvhError::TooDeep)
+    );
+}
+
+/// A scene of nested groups: a 2×2 tile of one triangle pair (a group of two instances), a row
+/// of three tiles (a group), and the row placed twice in the world, once mirrored; and the
+/// instances the scene should report, by path.
+fn nested_scene() -> (Scene<VertexTriangle, PackedSphere>, Vec<[u32; 3]>) {
+    let quad = [
+        [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+        ],
+        [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ],
+    ];
+    let shift = |x: f32, y: f32| {
+        Transform::placing(Affine3A::from_translation(Vec3::new(x, y, 0.0))).unwrap()
+    };
+    let mut s = Scene::<VertexTriangle, PackedSphere>::new();
+    let g = s.add_triangles(&pack_vertex(&quad)).unwrap();
+    let tile = s.add_group();
+    s.add_to_group(tile, &[g], Transform::IDENTITY, !0);
+    s.add_to_group(tile, &[g], shift(1.0, 0.0), !0);
+    let row = s.add_group();
+    for k in 0..3 {
+        s.place_group(Some(row), tile, shift(2.0 * k as f32, 0.0), !0);
+    }
+    s.place_group(None, row, shift(0.0, 5.0), !0);
+    let mirror = Affine3A::from_scale(Vec3::new(1.0, -1.0, 1.0));
+    s.place_group(None, row, Transform::placing(mirror).unwrap(), 2);
+    s.commit();
+    // Path p = 6·world + 2·tile + quad. Stored: the world's instances 0..2, then the groups'
+    // in the order made (the tile's 2..4, the row's 4..7).
+    let paths = (0..12u32)
+        .map(|p| [p / 6, 4 + (p / 2) % 3, 2 + p % 2])
+        .collect();
+    (s, paths)
+}
+
+/// Nested groups: each hit names its instance path, the path reads back as its instances, masks
+/// AND down the path, and every query equals brute force over the paths.
+#[test]
+fn nested_groups_name_their_instance_paths() {
+    let (s, paths) = nested_scene();
+    let r = s.as_ref();
+    for (p, want) in paths.iter().enumerate() {
+        assert_eq!(r.instance_path(p as u32).unwrap().as_slice(), want);
+    }
+    assert_eq!(r.instance_path(12), None);
+    assert_eq!(r.paths(), 12);
+    for p in 0..12u32 {
+        let (world, tile) = (p / 6, (p / 2) % 3);
+        let x = 2.0 * tile as f32 + (p % 2) as f32 + 0.25;
+        let y = if world == 0 { 5.5 } else { -0.5 };
+        let ray = Ray::new(Vec3::new(x, y, -1.0), Vec3::Z);
+        let h = r
+            .closest_ray::<f32x8, Watertight, StableSphere>(&ray, !0)
+            .unwrap();
+        assert_eq!((h.t, h.geom, h.inst), (1.0, 0, p), "{ray:?}");
+        // The mirrored row has mask 2: a query of mask 1 misses it, and only it.
+        let masked = r.closest_ray::<f32x8, Watertight, StableSphere>(&ray, 1);
+        assert_eq!(masked.is_some(), world == 0);
+    }
 }
 
 /// The transform's contract: the identity keeps the ray's bits; a placed transform maps a point

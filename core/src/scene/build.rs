@@ -2,10 +2,10 @@
 //! the top level built on [`Scene::commit`].
 
 use super::{
-    Geometry, Instance, InstanceBox, Member, SceneParts, SceneRef, SceneTree, Transform, TreeParts,
-    SPHERES, TRIANGLES,
+    Geometry, Instance, InstanceBox, Level, Member, SceneParts, SceneRef, SceneTree, Transform,
+    TreeParts, INSTANCES, MAX_INSTANCE_LEVELS, SPHERES, TRIANGLES,
 };
-use crate::bvh::{refit_parts, Bvh8, Bvh8Node, BvhError, Join, Sequential, SLACK};
+use crate::bvh::{refit_parts, Bvh8, Bvh8Node, Bvh8Ref, BvhError, Join, Sequential, SLACK};
 use crate::prim::{Aabb, Primitive, BLOCK};
 use alloc::vec::Vec;
 
@@ -18,6 +18,14 @@ struct Trees {
 }
 
 impl Trees {
+    /// Appends a tree's slices.
+    fn put<P: Primitive>(&mut self, tree: Bvh8<P>) {
+        let (nodes, blocks, ids) = tree.into_parts();
+        self.nodes.extend_from_slice(&nodes);
+        self.blocks.extend_from_slice(&blocks);
+        self.ids.extend_from_slice(&ids);
+    }
+
     fn parts(&self) -> TreeParts<'_> {
         TreeParts {
             nodes: &self.nodes,
@@ -34,6 +42,47 @@ enum Prims<T, S> {
     Spheres(Vec<S>),
 }
 
+/// What an instance places, as the scene is being built.
+#[derive(Clone, Copy, Debug)]
+enum Target {
+    /// The tree over a set of geometries (an index of `Scene::sets`).
+    Set(u32),
+    /// A group.
+    Group(u32),
+}
+
+/// An instance as the scene is being built.
+#[derive(Clone, Copy, Debug)]
+struct Placement {
+    transform: Transform,
+    target: Target,
+    mask: u32,
+}
+
+/// Where a tree's hits can lie in its own space.
+#[derive(Clone, Copy, Debug)]
+enum Extent {
+    /// Nothing to hit.
+    Empty,
+    /// Within a box.
+    Box(Aabb),
+    /// No finite box holds them.
+    Unbounded,
+}
+
+/// One level of instances, built ([`Scene::commit_with`]).
+struct BuiltLevel {
+    instances: Vec<Instance>,
+    tree: Bvh8<InstanceBox>,
+    /// Positions in `instances`.
+    unbounded: Vec<u32>,
+    levels: u32,
+    paths: u32,
+    mask: u32,
+    slack: f32,
+    extent: Extent,
+}
+
 /// An owned scene: geometries (triangle meshes in layout `T`, sphere sets in layout `S`), the
 /// bottom-level trees over them, instances placing those trees, and the top-level tree.
 ///
@@ -43,7 +92,12 @@ enum Prims<T, S> {
 /// [`Scene::commit`] (builds the new trees and the top level) before [`Scene::as_ref`]. After
 /// moving instances ([`Scene::set_transform`]) or refitting a geometry
 /// ([`Scene::refit_triangles`], [`Scene::refit_spheres`]: every tree holding it is refitted in
-/// place), commit again: only the top level is rebuilt. The scene keeps a copy of every
+/// place), commit again: only the top level and the groups' trees are rebuilt.
+///
+/// Groups nest instancing: [`Scene::add_group`] makes one, [`Scene::add_to_group`] and
+/// [`Scene::place_group`] fill it (with instances of geometries and of groups made before it),
+/// and `place_group(None, …)` places it in the world, as many times as wanted. A hit's
+/// `inst` numbers its instance path ([`SceneRef::instance_path`]). The scene keeps a copy of every
 /// geometry's primitives (for the builds and refits of the trees that share it).
 #[derive(Clone, Debug)]
 pub struct Scene<T, S> {
@@ -57,9 +111,18 @@ pub struct Scene<T, S> {
     /// Per tree: the union of its root's boxes, and whether its build left primitives out.
     tree_boxes: Vec<Aabb>,
     skipped: Vec<bool>,
+    /// The world's instances, and each group's, as added.
+    world: Vec<Placement>,
+    groups: Vec<Vec<Placement>>,
+    /// Built on commit: the trees of sets and then the groups' records, the instances (the
+    /// world's, then each group's), the world's tree and then each group's, the unbounded
+    /// lists, and the world's level (its tree's nodes and blocks, unbounded entries, slack).
+    stored_trees: Vec<SceneTree>,
     instances: Vec<Instance>,
-    top: Bvh8<InstanceBox>,
+    top: Trees,
     unbounded: Vec<u32>,
+    world_top: (usize, usize),
+    world_unbounded: usize,
     origin_slack: f32,
     committed: bool,
 }
@@ -99,9 +162,14 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
             members: Vec::new(),
             tree_boxes: Vec::new(),
             skipped: Vec::new(),
+            world: Vec::new(),
+            groups: Vec::new(),
+            stored_trees: Vec::new(),
             instances: Vec::new(),
-            top: Bvh8::build(&[]),
+            top: Trees::default(),
             unbounded: Vec::new(),
+            world_top: (0, 0),
+            world_unbounded: 0,
             origin_slack: SLACK,
             committed: true,
         }
@@ -155,12 +223,15 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
                 tree.mask = self.sets[t]
                     .iter()
                     .fold(u32::MAX, |m, &g| m & self.geoms[g as usize].mask);
+                if let Some(stored) = self.stored_trees.get_mut(t) {
+                    stored.mask = tree.mask;
+                }
             }
         }
     }
 
     /// Places the geometries `geoms` (one kind; one tree over all of them, shared with every
-    /// other instance of the same set) with `transform` (world → object;
+    /// other instance of the same set) in the world with `transform` (world → object;
     /// [`Transform::placing`] inverts a renderer's object → world matrix) and `mask`; returns
     /// the instance index.
     ///
@@ -169,6 +240,86 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
     /// scene has `u32::MAX` instances.
     #[track_caller]
     pub fn add_instance(&mut self, geoms: &[u32], transform: Transform, mask: u32) -> u32 {
+        let target = Target::Set(self.set_of(geoms));
+        self.push(None, target, transform, mask)
+    }
+
+    /// A new, empty group; returns its index. Fill it with [`Scene::add_to_group`] and
+    /// [`Scene::place_group`], place it with [`Scene::place_group`].
+    ///
+    /// # Panics
+    /// When the scene has `u32::MAX` groups.
+    #[track_caller]
+    pub fn add_group(&mut self) -> u32 {
+        assert!(
+            self.groups.len() < u32::MAX as usize,
+            "octoray Scene: too many groups"
+        );
+        self.groups.push(Vec::new());
+        self.committed = false;
+        self.groups.len() as u32 - 1
+    }
+
+    /// Places the geometries `geoms` in group `group` (its space → object by `transform`), as
+    /// [`Scene::add_instance`] places them in the world; returns the instance's position in the
+    /// group.
+    ///
+    /// # Panics
+    /// As [`Scene::add_instance`]; when `group` is not a group of the scene.
+    #[track_caller]
+    pub fn add_to_group(
+        &mut self,
+        group: u32,
+        geoms: &[u32],
+        transform: Transform,
+        mask: u32,
+    ) -> u32 {
+        self.group_len(group);
+        let target = Target::Set(self.set_of(geoms));
+        self.push(Some(group), target, transform, mask)
+    }
+
+    /// Places group `group` in the world (`parent` `None`) or in group `parent` (which must be
+    /// made after it: a group holds only groups made before it), with `transform` (the
+    /// parent's space → the group's) and `mask`; returns the instance's index in the world or
+    /// its position in `parent`. A path from the world down to a geometry holds at most
+    /// [`MAX_INSTANCE_LEVELS`] instances ([`Scene::commit_with`] checks).
+    ///
+    /// # Panics
+    /// When `group` or `parent` is not a group of the scene, or `parent` is not made after
+    /// `group`; when the level has `u32::MAX` instances.
+    #[track_caller]
+    pub fn place_group(
+        &mut self,
+        parent: Option<u32>,
+        group: u32,
+        transform: Transform,
+        mask: u32,
+    ) -> u32 {
+        self.group_len(group);
+        if let Some(p) = parent {
+            self.group_len(p);
+            assert!(
+                group < p,
+                "octoray Scene: group {p} cannot hold group {group} (a group holds groups made \
+                 before it)"
+            );
+        }
+        self.push(parent, Target::Group(group), transform, mask)
+    }
+
+    /// Group `g`'s number of instances.
+    #[track_caller]
+    fn group_len(&self, g: u32) -> usize {
+        self.groups
+            .get(g as usize)
+            .unwrap_or_else(|| panic!("octoray Scene: group {g} of {}", self.groups.len()))
+            .len()
+    }
+
+    /// The tree index of the set `geoms` (one kind), a new one when no tree holds that set.
+    #[track_caller]
+    fn set_of(&mut self, geoms: &[u32]) -> u32 {
         let mut set = geoms.to_vec();
         set.sort_unstable();
         set.dedup();
@@ -184,10 +335,6 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
             set.iter().all(|&g| kind(g) == k),
             "octoray Scene: an instance places geometries of one kind"
         );
-        assert!(
-            self.instances.len() < u32::MAX as usize,
-            "octoray Scene: too many instances"
-        );
         let tree = match self.sets.iter().position(|s| *s == set) {
             Some(t) => t,
             None => {
@@ -195,39 +342,71 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
                 self.sets.len() - 1
             }
         };
-        self.instances.push(Instance {
+        tree as u32
+    }
+
+    /// Adds an instance to the world (`None`) or a group; returns its position there.
+    #[track_caller]
+    fn push(&mut self, level: Option<u32>, target: Target, transform: Transform, mask: u32) -> u32 {
+        let list = match level {
+            None => &mut self.world,
+            Some(g) => &mut self.groups[g as usize],
+        };
+        assert!(
+            list.len() < u32::MAX as usize,
+            "octoray Scene: too many instances"
+        );
+        list.push(Placement {
             transform,
-            tree: tree as u32,
+            target,
             mask,
         });
         self.committed = false;
-        self.instances.len() as u32 - 1
+        list.len() as u32 - 1
     }
 
-    /// Moves instance `inst` (commit before tracing again).
+    /// Moves world instance `inst` (commit before tracing again).
     ///
     /// # Panics
-    /// When `inst` is not an instance of the scene.
+    /// When `inst` is not an instance of the world.
     #[track_caller]
     pub fn set_transform(&mut self, inst: u32, transform: Transform) {
-        self.instance_mut(inst).transform = transform;
+        self.placement_mut(None, inst).transform = transform;
         self.committed = false;
     }
 
-    /// Sets instance `inst`'s mask.
+    /// Moves instance `k` of group `group` (commit before tracing again).
     ///
     /// # Panics
-    /// When `inst` is not an instance of the scene.
+    /// When `group` is not a group of the scene or has no instance `k`.
+    #[track_caller]
+    pub fn set_group_transform(&mut self, group: u32, k: u32, transform: Transform) {
+        self.group_len(group);
+        self.placement_mut(Some(group), k).transform = transform;
+        self.committed = false;
+    }
+
+    /// Sets world instance `inst`'s mask (it holds at once, without a commit).
+    ///
+    /// # Panics
+    /// When `inst` is not an instance of the world.
     #[track_caller]
     pub fn set_instance_mask(&mut self, inst: u32, mask: u32) {
-        self.instance_mut(inst).mask = mask;
+        self.placement_mut(None, inst).mask = mask;
+        // The world's instances come first in the stored list, in the order they were added.
+        if let Some(i) = self.instances.get_mut(inst as usize) {
+            i.mask = mask;
+        }
     }
 
     #[track_caller]
-    fn instance_mut(&mut self, inst: u32) -> &mut Instance {
-        let n = self.instances.len();
-        self.instances
-            .get_mut(inst as usize)
+    fn placement_mut(&mut self, level: Option<u32>, inst: u32) -> &mut Placement {
+        let list = match level {
+            None => &mut self.world,
+            Some(g) => &mut self.groups[g as usize],
+        };
+        let n = list.len();
+        list.get_mut(inst as usize)
             .unwrap_or_else(|| panic!("octoray Scene: instance {inst} of {n}"))
     }
 
@@ -263,6 +442,11 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
             mask: self.sets[t]
                 .iter()
                 .fold(u32::MAX, |m, &g| m & self.geoms[g as usize].mask),
+            levels: 0,
+            paths: 1,
+            slack: SLACK,
+            first_unbounded: 0,
+            unbounded: 0,
         };
         index(trees.nodes.len() + nodes.len())?;
         index(trees.ids.len() / BLOCK + ids.len() / BLOCK)?;
@@ -429,40 +613,147 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
                 self.build_tree(t, kind, &p, join)?;
             }
         }
-        let mut unbounded = Vec::new();
-        let boxes: Vec<InstanceBox> = self
-            .instances
-            .iter()
-            .enumerate()
-            .map(|(i, inst)| {
-                let t = inst.tree as usize;
-                // An empty tree is never hit; a tree whose boxes reach infinity (coordinates
-                // near f32::MAX widened) has no finite world box: every ray visits it.
-                let world = if self.trees[t].nodes > 0 {
-                    let w = inst.transform.world_box(&self.tree_boxes[t]);
-                    if w.is_none() {
-                        unbounded.push(i as u32);
-                    }
-                    w
+        // Groups first (a group holds groups made before it, so their records are ready), then
+        // the world; stored as the world, then each group in turn.
+        let geo = self.trees.len();
+        let mut records = self.trees.clone();
+        let mut extents: Vec<Extent> = (0..geo)
+            .map(|t| {
+                if self.trees[t].nodes == 0 {
+                    Extent::Empty
                 } else {
-                    None
-                };
-                // A non-finite box leaves the instance out of the top tree.
-                let w = world.unwrap_or(Aabb::EMPTY);
-                InstanceBox { lo: w.lo, hi: w.hi }
+                    Extent::Box(self.tree_boxes[t])
+                }
             })
             .collect();
-        self.top = Bvh8::try_build_with(&boxes, join)?;
+        let mut built = Vec::with_capacity(self.groups.len());
+        for g in 0..self.groups.len() {
+            let level = self.build_level(&self.groups[g], geo, &records, &extents, join)?;
+            if level.levels + 1 >= MAX_INSTANCE_LEVELS {
+                return Err(BvhError::TooDeep);
+            }
+            records.push(SceneTree {
+                kind: INSTANCES,
+                prims: index(level.instances.len())?,
+                members: index(level.instances.len())?,
+                mask: level.mask,
+                levels: level.levels + 1,
+                paths: level.paths,
+                slack: level.slack,
+                unbounded: index(level.unbounded.len())?,
+                ..<SceneTree as bytemuck::Zeroable>::zeroed()
+            });
+            extents.push(level.extent);
+            built.push(level);
+        }
+        let world = self.build_level(&self.world, geo, &records, &extents, join)?;
+        let mut top = Trees::default();
+        self.origin_slack = world.slack;
+        self.world_unbounded = world.unbounded.len();
+        let mut instances = world.instances;
+        let mut unbounded = world.unbounded;
+        top.put(world.tree);
+        self.world_top = (top.nodes.len(), top.ids.len() / BLOCK);
+        for (g, level) in built.into_iter().enumerate() {
+            let r = &mut records[geo + g];
+            r.first_node = index(top.nodes.len())?;
+            r.first_block = index(top.ids.len() / BLOCK)?;
+            r.first_member = index(instances.len())?;
+            r.first_unbounded = index(unbounded.len())?;
+            let first = r.first_member;
+            top.put(level.tree);
+            let r = &mut records[geo + g];
+            r.nodes = index(top.nodes.len())? - r.first_node;
+            r.blocks = index(top.ids.len() / BLOCK)? - r.first_block;
+            unbounded.extend(level.unbounded.iter().map(|&k| first + k));
+            instances.extend_from_slice(&level.instances);
+        }
+        index(instances.len())?;
+        self.stored_trees = records;
+        self.instances = instances;
+        self.top = top;
         self.unbounded = unbounded;
-        self.origin_slack = super::origin_slack(&self.instances);
         self.committed = true;
         Ok(())
     }
 
-    /// Builds the trees of the sets no tree holds yet, then the top level over the instances'
-    /// world boxes ([`Transform::world_box`]); the instances without one (nearly singular, or
-    /// boxes that reach infinity) go on the unbounded list (every ray visits them), those of
-    /// empty trees nowhere.
+    /// The instances `placements` of one level (trees `0..geo` are the sets', then the
+    /// groups'), the tree over their boxes, and what the level's record says of them.
+    fn build_level<J: Join>(
+        &self,
+        placements: &[Placement],
+        geo: usize,
+        records: &[SceneTree],
+        extents: &[Extent],
+        join: &J,
+    ) -> Result<BuiltLevel, BvhError> {
+        let mut out = BuiltLevel {
+            instances: Vec::with_capacity(placements.len()),
+            tree: Bvh8::build(&[]),
+            unbounded: Vec::new(),
+            levels: 0,
+            paths: 0,
+            mask: 0,
+            slack: SLACK,
+            extent: Extent::Empty,
+        };
+        let mut boxes = Vec::with_capacity(placements.len());
+        for (k, p) in placements.iter().enumerate() {
+            let t = match p.target {
+                Target::Set(s) => s as usize,
+                Target::Group(g) => geo + g as usize,
+            };
+            let child = &records[t];
+            // An empty tree is never hit; a tree whose boxes reach infinity (coordinates near
+            // f32::MAX widened), a nearly singular transform or an unbounded group has no
+            // finite box: every ray reaching the level visits it.
+            let placed = match extents[t] {
+                Extent::Empty => None,
+                Extent::Box(b) => match p.transform.world_box_within(&b, child.slack) {
+                    Some(w) => Some(w),
+                    None => {
+                        out.unbounded.push(index(k)?);
+                        None
+                    }
+                },
+                Extent::Unbounded => {
+                    out.unbounded.push(index(k)?);
+                    None
+                }
+            };
+            out.extent = match (out.extent, placed, extents[t]) {
+                (Extent::Unbounded, _, _) | (_, None, Extent::Box(_) | Extent::Unbounded) => {
+                    Extent::Unbounded
+                }
+                (Extent::Empty, Some(w), _) => Extent::Box(w),
+                (Extent::Box(a), Some(w), _) => Extent::Box(a.union(w)),
+                (e, None, Extent::Empty) => e,
+            };
+            let w = placed.unwrap_or(Aabb::EMPTY);
+            boxes.push(InstanceBox { lo: w.lo, hi: w.hi });
+            out.instances.push(Instance {
+                transform: p.transform,
+                tree: index(t)?,
+                mask: p.mask,
+                path: out.paths,
+            });
+            out.paths = out
+                .paths
+                .checked_add(child.paths)
+                .ok_or(BvhError::TooManyPrims(usize::MAX))?;
+            out.levels = out.levels.max(child.levels);
+            out.mask |= p.mask;
+        }
+        out.tree = Bvh8::try_build_with(&boxes, join)?;
+        out.slack = super::origin_slack(&out.instances, records);
+        Ok(out)
+    }
+
+    /// Builds the trees of the sets no tree holds yet, then each group's tree and the world's
+    /// top level over their instances' boxes ([`Transform::world_box_within`]); the instances
+    /// without one (nearly singular, boxes that reach infinity, groups holding such) go on their
+    /// level's unbounded list (every ray reaching the level visits them), those of empty trees
+    /// nowhere.
     ///
     /// # Panics
     /// When a tree or the scene's slices would outgrow `u32` indices (use
@@ -489,7 +780,23 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
             self.committed,
             "octoray Scene::as_ref: the scene changed since its last commit"
         );
-        SceneRef::built(self.parts(), self.top.as_ref(), self.origin_slack)
+        let parts = self.parts();
+        let (nodes, blocks) = self.world_top;
+        let roots = self.world.len();
+        let world = Level {
+            top: Bvh8Ref::trusted(
+                &parts.top.nodes[..nodes],
+                &parts.top.blocks[..blocks * <InstanceBox as Primitive>::WORDS],
+                &parts.top.ids[..blocks * BLOCK],
+                roots as u32,
+            ),
+            first: 0,
+            instances: &parts.instances[..roots],
+            unbounded: &parts.unbounded[..self.world_unbounded],
+            slack: self.origin_slack,
+            mask: u32::MAX,
+        };
+        SceneRef::built(parts, world)
     }
 
     /// The slices (to store the scene; [`SceneRef::new`] reads them back). Call after
@@ -499,14 +806,10 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
             triangles: self.kinds[TRIANGLES as usize].parts(),
             spheres: self.kinds[SPHERES as usize].parts(),
             geometries: &self.geoms,
-            trees: &self.trees,
+            trees: &self.stored_trees,
             members: &self.members,
             instances: &self.instances,
-            top: TreeParts {
-                nodes: self.top.nodes(),
-                blocks: self.top.blocks(),
-                ids: self.top.ids(),
-            },
+            top: self.top.parts(),
             unbounded: &self.unbounded,
         }
     }
@@ -516,7 +819,9 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
         &self.geoms
     }
 
-    /// The instances.
+    /// The instances as last committed (empty before the first [`Scene::commit`]): the
+    /// world's, in the order added (the indices [`Scene::add_instance`] returned), then each
+    /// group's.
     pub fn instances(&self) -> &[Instance] {
         &self.instances
     }

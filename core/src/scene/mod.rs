@@ -8,18 +8,28 @@
 //!   primitives one after another), and where each member's primitives start in it. Static
 //!   meshes share one tree (the cost of one tree); an instanced mesh has a tree of its own.
 //! - [`Instance`]: a tree placed by a [`Transform`] (world → object), with a mask.
+//! - A group ([`SceneTree`] of kind [`INSTANCES`]): a set of instances with a tree over their
+//!   boxes, itself placed by instances (nested instancing, up to [`MAX_INSTANCE_LEVELS`]
+//!   instances on a path from the world to a primitive).
+//! - [`Level`]: the world's instances or a group's, with the tree over their boxes.
 //! - [`SceneRef`]: the whole scene as borrowed slices, validated by [`SceneRef::new`]; traversal
 //!   needs nothing else (no allocator, no `std`), so a scene written on a host can be traced on
 //!   a target from `&'static` data.
 //! - [`Scene`] (feature `alloc`): the owned scene: add geometries, place sets of them, commit.
 //!
 //! # Contract
-//! A scene query's answer equals brute force over every instance, over every geometry of its
-//! tree whose mask shares a bit with the instance's and the query's: each instance's primitives
-//! tested with the ray carried into its object space by [`Transform::apply`] (the same f32 ray
-//! for every primitive of that instance), bit for bit (hit/miss, `t`, `u`, `v`, primitive,
-//! geometry, instance), with the tie rule: among hits of equal `t`, the lowest instance index,
-//! then the lowest geometry, then the lowest primitive wins. `t` is measured along the world ray
+//! A scene query's answer equals brute force over every instance path (a world instance, then
+//! an instance of the group it places, and so on down to a tree of geometries), over every
+//! geometry of the last tree whose mask shares a bit with the query's and every instance's on
+//! the path: each path's primitives tested with the ray carried into its object space by
+//! [`Transform::apply`] once per instance on the path, outermost first (the same f32 ray for
+//! every primitive of that path), bit for bit (hit/miss, `t`, `u`, `v`, primitive, geometry,
+//! instance path), with the tie rule: among hits of equal `t`, the lowest instance path, then
+//! the lowest geometry, then the lowest primitive wins.
+//!
+//! A hit's `inst` numbers its instance path: the paths counted depth first in instance order
+//! ([`Instance::path`]), so in a scene without groups it is the world instance's index, and
+//! [`SceneRef::instance_path`] gives the instances back. `t` is measured along the world ray
 //! (the transform keeps it), so hits of different instances compare by `t`. The transformed ray
 //! is within 1 ulp of the exact map per component, which moves a hit's `t` by up to about
 //! `κ·ε` relative (ε = 2⁻²⁴) for an instance whose transform has condition number `κ`, on top of
@@ -31,19 +41,28 @@
 //! ray through that edge can pass between them by up to the transforms' rounding (about
 //! `κ·ε·(‖o‖ + t‖d‖)`): a closed surface made of several instances is watertight only where
 //! they share one transform; put a closed mesh in one geometry, or several in one tree.
-//! Instances are one level deep: an instance places a tree of geometries, not another scene.
+//! A nested path rounds once per level: its `t` error adds up over the levels (the product of
+//! their condition numbers bounds it), and so does each level's box slack.
 //!
 //! The top level's box tests are conservative for the rounded rays: each instance's world box is
 //! grown by what the rounding into object space can move a hit ([`Transform::world_box`]), and
 //! the top-level walk adds an origin slack for the largest condition number among the bounded
-//! instances. An instance whose condition number exceeds [`MAX_CONDITION`] (nearly singular) or
-//! whose world box is not finite is not in the top-level tree: every ray visits it.
+//! instances. A group's tree does the same in the group's space, and an instance of a group is
+//! bounded by its group's boxes grown for the group's own slack, so the growth compounds
+//! (about `κ` per level). An instance whose condition number exceeds [`MAX_CONDITION`] (nearly
+//! singular) or whose box is not finite is not in its level's tree: every ray that reaches the
+//! level visits it.
 //!
 //! # Untrusted scenes
 //! [`SceneRef::new`] takes any slices: it answers `Ok` or a [`SceneError`], never panics, in time
 //! linear in their total length and without an allocator. On a scene it accepts, every query is
 //! total: no panic, each node visited and each primitive tested at most once per ray and
-//! instance visit, every reported geometry, instance and primitive in range.
+//! instance visit, every reported geometry, instance path and primitive in range. Groups
+//! multiply the work: a ray visits each tree of geometries at most once per instance path
+//! ([`SceneRef::paths`]) in a scene [`Scene`] built; a hostile scene can also name an instance
+//! in several slots of its level's tree, so its bound is the product, over at most
+//! [`MAX_INSTANCE_LEVELS`] levels, of each level's used tree slots and unbounded entries. A
+//! caller taking scenes from outside can refuse those whose paths or slots it will not pay for.
 
 #[cfg(feature = "alloc")]
 mod build;
@@ -62,6 +81,11 @@ use crate::prim::{Aabb, Primitive, Words, BLOCK};
 pub const TRIANGLES: u32 = 0;
 /// [`Geometry::kind`] of a set of spheres (the scene's sphere layout).
 pub const SPHERES: u32 = 1;
+/// [`SceneTree::kind`] of a group: a tree over instances.
+pub const INSTANCES: u32 = 2;
+/// Most instances on a path from the world to a primitive (a world instance and up to three
+/// nested groups' below it).
+pub const MAX_INSTANCE_LEVELS: u32 = 4;
 
 /// One geometry of a scene: a primitive slice of one kind, with a mask.
 #[repr(C)]
@@ -75,16 +99,17 @@ pub struct Geometry {
     pub prims: u32,
 }
 
-/// One bottom-level tree of a scene: a BVH over one or more geometries of one kind (their
-/// primitives one after another, in the order of its members), and where it lies in the slices
-/// of its kind (nodes `first_node..first_node + nodes`, blocks `first_block..first_block +
-/// blocks`; the trees of one kind follow one another there).
+/// One tree of a scene: a BVH over one or more geometries of one kind (their primitives one
+/// after another, in the order of its members), or a group's tree over its instances' boxes;
+/// and where it lies in the slices of its kind (nodes `first_node..first_node + nodes`, blocks
+/// `first_block..first_block + blocks`; the trees of one kind follow one another there, the
+/// groups' after the world's top-level tree).
 #[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct SceneTree {
-    /// [`TRIANGLES`] or [`SPHERES`].
+    /// [`TRIANGLES`], [`SPHERES`] or [`INSTANCES`].
     pub kind: u32,
-    /// Its members' primitives together.
+    /// Its members' primitives together (a group: its instances).
     pub prims: u32,
     /// Its root's index in the nodes of its kind.
     pub first_node: u32,
@@ -94,13 +119,29 @@ pub struct SceneTree {
     pub first_block: u32,
     /// Its number of blocks of [`BLOCK`] primitives.
     pub blocks: u32,
-    /// Its first member in the scene's member list.
+    /// Its first member in the scene's member list (a group: its first instance; a group's
+    /// instances follow the world's and the previous group's).
     pub first_member: u32,
-    /// Its number of members (geometries), at least 1.
+    /// Its number of members (geometries), at least 1 (a group: its instances, as `prims`).
     pub members: u32,
     /// The AND of its members' masks (a query sharing a bit with it admits every member, and
-    /// the walk skips the per-hit mask test).
+    /// the walk skips the per-hit mask test); a group: the OR of its instances' masks (a ray
+    /// sharing no bit with it skips the group).
     pub mask: u32,
+    /// Instance levels below an instance of it: 0 for geometries; for a group, one more than
+    /// the deepest tree its instances place (below [`MAX_INSTANCE_LEVELS`]).
+    pub levels: u32,
+    /// Instance paths through one instance of it (the hit `inst` values it spans): 1 for
+    /// geometries; for a group, the sum over its instances' trees.
+    pub paths: u32,
+    /// Relative origin slack of the box tests in it: [`SLACK`] for geometries; for a group,
+    /// what its instances need ([`Transform::world_box_within`]), at least [`SLACK`].
+    pub slack: f32,
+    /// A group's first entry in the unbounded list (its instances outside its tree follow the
+    /// world's and the previous group's there); 0 for geometries.
+    pub first_unbounded: u32,
+    /// A group's number of unbounded instances; 0 for geometries.
+    pub unbounded: u32,
 }
 
 /// A geometry in a tree: its primitives are the tree's `first_prim..first_prim + prims`.
@@ -113,16 +154,21 @@ pub struct Member {
     pub first_prim: u32,
 }
 
-/// A tree placed in the world: rays are carried into its object space by `transform`.
+/// A tree placed in the world or in a group: rays are carried into its object space by
+/// `transform`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Instance {
-    /// World → object.
+    /// Its level's space (the world, or the group's) → object.
     pub transform: Transform,
-    /// Index of the tree it places.
+    /// Index of the tree it places (an instance in a group places a tree of a lower index).
     pub tree: u32,
-    /// ANDed with the query's mask before the tree is entered, and with each geometry's.
+    /// ANDed with the query's mask and the masks above it before the tree is entered, and with
+    /// each geometry's.
     pub mask: u32,
+    /// Its first instance path within its level: the paths through its level's earlier
+    /// instances (in the world, its index when no group is placed).
+    pub path: u32,
 }
 
 /// The top-level tree's primitive: an instance's world box ([`Transform::world_box`]).
@@ -213,13 +259,20 @@ pub enum SceneError {
     },
     /// Nodes, blocks or members that no tree holds.
     Unused {
-        /// [`TRIANGLES`] or [`SPHERES`] (nodes or blocks), or 2 (members).
+        /// [`TRIANGLES`], [`SPHERES`] or [`INSTANCES`] (nodes or blocks), or 3 (members).
         kind: u32,
     },
-    /// An instance names a tree that does not exist.
+    /// An instance names a tree that does not exist (or, in a group, a tree that does not come
+    /// before the group), or its path is not the count of its level's earlier paths.
     BadInstance {
         /// The instance.
         inst: usize,
+    },
+    /// A group's instances, tree ranges or unbounded entries are out of place, or its levels,
+    /// paths, mask or slack are not what its instances make them.
+    BadGroup {
+        /// The group's tree.
+        tree: usize,
     },
     /// The top-level tree is not valid.
     Top(BvhError),
@@ -228,7 +281,7 @@ pub enum SceneError {
         /// Its position in the list.
         at: usize,
     },
-    /// More geometries or instances than `u32` indices.
+    /// More geometries, instances or instance paths than `u32` indices.
     TooMany,
     /// Stored words ([`SceneRef::from_words`]) are not laid out as a stored scene (the reason).
     BadWords(&'static str),
@@ -250,8 +303,9 @@ impl core::fmt::Display for SceneError {
                 )
             }
             SceneError::BadInstance { inst } => {
-                write!(f, "instance {inst} names a tree that does not exist")
+                write!(f, "instance {inst}'s tree or path is not valid")
             }
+            SceneError::BadGroup { tree } => write!(f, "group {tree} is not valid"),
             SceneError::Top(e) => write!(f, "top-level tree: {e}"),
             SceneError::BadUnbounded { at } => {
                 write!(
@@ -259,7 +313,9 @@ impl core::fmt::Display for SceneError {
                     "unbounded entry {at} names an instance that does not exist"
                 )
             }
-            SceneError::TooMany => write!(f, "more geometries or instances than u32 indices"),
+            SceneError::TooMany => {
+                write!(f, "more geometries, instances or paths than u32 indices")
+            }
             SceneError::BadWords(why) => write!(f, "stored scene words: {why}"),
         }
     }
@@ -267,22 +323,46 @@ impl core::fmt::Display for SceneError {
 
 impl core::error::Error for SceneError {}
 
-/// The top level's relative origin slack for `instances`: the largest any bounded one needs,
-/// at least [`SLACK`].
-fn origin_slack(instances: &[Instance]) -> f32 {
+/// The relative origin slack of a level's box tests over `instances` (placing `trees`): the
+/// largest any bounded one needs, at least [`SLACK`].
+fn origin_slack(instances: &[Instance], trees: &[SceneTree]) -> f32 {
     instances
         .iter()
-        .filter_map(|i| i.transform.origin_slack())
+        .filter_map(|i| {
+            let inner = trees.get(i.tree as usize)?.slack;
+            i.transform.origin_slack_within(inner)
+        })
         .fold(SLACK, f32::max)
 }
 
-/// One bottom-level tree, by kind, with its members.
+/// One level of instances, the world's or a group's: its instances, the tree over their boxes
+/// and those outside it.
+#[derive(Clone, Copy, Debug)]
+pub struct Level<'a> {
+    /// The tree over its bounded instances' boxes (its ids count from `first`).
+    pub top: Bvh8Ref<'a, InstanceBox>,
+    /// Its first instance in the scene's list.
+    pub first: u32,
+    /// Its instances, `first..first + instances.len()` in the scene's list.
+    pub instances: &'a [Instance],
+    /// Its instances that are not in `top` (scene indices): every ray reaching it visits them.
+    pub unbounded: &'a [u32],
+    /// The relative origin slack of `top`'s box tests (at least [`SLACK`]).
+    pub slack: f32,
+    /// The OR of its instances' masks (the world's: all ones): a ray sharing no bit with it
+    /// finds nothing in the level.
+    pub mask: u32,
+}
+
+/// One tree of a scene, by kind, with its members.
 #[derive(Debug)]
 pub enum TreeRef<'a, T, S> {
     /// Over triangle geometries.
     Triangles(Bvh8Ref<'a, T>, &'a [Member]),
     /// Over sphere geometries.
     Spheres(Bvh8Ref<'a, S>, &'a [Member]),
+    /// A group: a level of instances.
+    Instances(Level<'a>),
 }
 
 impl<T, S> Clone for TreeRef<'_, T, S> {
@@ -297,8 +377,9 @@ impl<T, S> Copy for TreeRef<'_, T, S> {}
 #[derive(Debug)]
 pub struct SceneRef<'a, T, S> {
     parts: SceneParts<'a>,
-    top: Bvh8Ref<'a, InstanceBox>,
-    origin_slack: f32,
+    root: Level<'a>,
+    /// Whether any group is placed (instance paths are then not instance indices).
+    nested: bool,
     /// The tree of the only instance, found once (a renderer's static world: every ray enters
     /// it).
     sole: Option<TreeRef<'a, T, S>>,
@@ -310,6 +391,25 @@ impl<T, S> Clone for SceneRef<'_, T, S> {
     }
 }
 impl<T, S> Copy for SceneRef<'_, T, S> {}
+
+/// The instances on an instance path, the world's first ([`SceneRef::instance_path`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct InstancePath {
+    len: usize,
+    insts: [u32; MAX_INSTANCE_LEVELS as usize],
+}
+
+impl InstancePath {
+    /// The instances' indices in the scene's list, outermost first.
+    pub fn as_slice(&self) -> &[u32] {
+        &self.insts[..self.len]
+    }
+
+    /// The innermost instance (the one that places the hit's geometry).
+    pub fn leaf(&self) -> u32 {
+        self.insts[self.len - 1]
+    }
+}
 
 /// The slices of tree `g` within its kind's slices (`words` rows per block), if its ranges lie
 /// inside them.
@@ -329,13 +429,16 @@ fn sub_tree<'a>(parts: &TreeParts<'a>, g: &SceneTree, words: usize) -> Option<Tr
 
 impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
     /// Validates and wraps a scene's slices, in time linear in their total length and without
-    /// an allocator: every geometry's tree as [`Bvh8Ref::new`] checks it (the geometries of a
-    /// kind in order, together covering their kind's slices exactly), every instance's geometry
-    /// in range, the top-level tree over the instances, the unbounded list in range.
+    /// an allocator: every tree as [`Bvh8Ref::new`] checks it (the trees of a kind in order,
+    /// together covering their kind's slices exactly), each tree's members, each group's
+    /// instances (placing trees before the group, their paths, levels, mask and slack as they
+    /// make them), every instance's tree in range, the world's top-level tree over its
+    /// instances, the unbounded lists in range.
     pub fn new(parts: SceneParts<'a>) -> Result<Self, SceneError> {
         if u32::try_from(parts.geometries.len()).is_err()
             || u32::try_from(parts.instances.len()).is_err()
             || u32::try_from(parts.trees.len()).is_err()
+            || u32::try_from(parts.unbounded.len()).is_err()
         {
             return Err(SceneError::TooMany);
         }
@@ -346,12 +449,51 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
         {
             return Err(SceneError::BadKind { at });
         }
-        let mut next = [(0u32, 0u32); 2];
+        // The world's part of the shared slices ends where the first group's begins.
+        let first_group = parts.trees.iter().position(|t| t.kind == INSTANCES);
+        let (roots, root_end, root_unbounded) = match first_group {
+            Some(g) => {
+                let g = &parts.trees[g];
+                (
+                    g.first_member as usize,
+                    (g.first_node, g.first_block),
+                    g.first_unbounded as usize,
+                )
+            }
+            None => (
+                parts.instances.len(),
+                (
+                    u32::try_from(parts.top.nodes.len()).map_err(|_| SceneError::TooMany)?,
+                    u32::try_from(parts.top.ids.len() / BLOCK).map_err(|_| SceneError::TooMany)?,
+                ),
+                parts.unbounded.len(),
+            ),
+        };
+        let bad_first = SceneError::BadGroup {
+            tree: first_group.unwrap_or(0),
+        };
+        if roots > parts.instances.len() || root_unbounded > parts.unbounded.len() {
+            return Err(bad_first);
+        }
+        let root_top = if first_group.is_some() {
+            let root = SceneTree {
+                nodes: root_end.0,
+                blocks: root_end.1,
+                ..<SceneTree as bytemuck::Zeroable>::zeroed()
+            };
+            sub_tree(&parts.top, &root, InstanceBox::WORDS).ok_or(bad_first)?
+        } else {
+            parts.top
+        };
+        let mut next = [(0u32, 0u32), (0, 0), root_end];
         let mut next_member = 0usize;
+        let mut next_inst = roots;
+        let mut next_unbounded = root_unbounded;
         for (i, g) in parts.trees.iter().enumerate() {
             let (tree, words) = match g.kind {
                 TRIANGLES => (&parts.triangles, T::WORDS),
                 SPHERES => (&parts.spheres, S::WORDS),
+                INSTANCES => (&parts.top, InstanceBox::WORDS),
                 _ => return Err(SceneError::BadKind { at: i }),
             };
             let at = &mut next[g.kind as usize];
@@ -364,7 +506,8 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
             let prims = g.prims as usize;
             match g.kind {
                 TRIANGLES => Bvh8Ref::<T>::new(sub.nodes, sub.blocks, sub.ids, prims).map(drop),
-                _ => Bvh8Ref::<S>::new(sub.nodes, sub.blocks, sub.ids, prims).map(drop),
+                SPHERES => Bvh8Ref::<S>::new(sub.nodes, sub.blocks, sub.ids, prims).map(drop),
+                _ => Bvh8Ref::<InstanceBox>::new(sub.nodes, sub.blocks, sub.ids, prims).map(drop),
             }
             .map_err(err)?;
             *at = g
@@ -372,9 +515,18 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
                 .checked_add(g.nodes)
                 .zip(g.first_block.checked_add(g.blocks))
                 .ok_or(bad_range)?;
+            if g.kind == INSTANCES {
+                check_group(&parts, i, &mut next_inst, &mut next_unbounded)?;
+                continue;
+            }
             // Members: the next ones in the list, geometries of this kind in increasing order,
             // their primitives one after another adding up to the tree's.
             let bad_members = SceneError::BadMembers { tree: i };
+            if (g.levels, g.paths, g.first_unbounded, g.unbounded) != (0, 1, 0, 0)
+                || g.slack.to_bits() != SLACK.to_bits()
+            {
+                return Err(bad_members);
+            }
             let members = (g.first_member as usize == next_member)
                 .then(|| {
                     parts
@@ -401,52 +553,67 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
                 return Err(bad_members);
             }
         }
+        // Without groups the world's tree is the whole top slices (checked below).
+        let kinds = if first_group.is_some() { 3 } else { 2 };
         for (kind, tree, words) in [
             (TRIANGLES, &parts.triangles, T::WORDS),
             (SPHERES, &parts.spheres, S::WORDS),
-        ] {
+            (INSTANCES, &parts.top, InstanceBox::WORDS),
+        ]
+        .into_iter()
+        .take(kinds)
+        {
             let (n, b) = next[kind as usize];
             if n as usize != tree.nodes.len()
-                || b as usize * BLOCK != tree.ids.len()
+                || Some(tree.ids.len()) != (b as usize).checked_mul(BLOCK)
                 || Some(tree.blocks.len()) != (b as usize).checked_mul(words)
             {
                 return Err(SceneError::Unused { kind });
             }
         }
         if next_member != parts.members.len() {
-            return Err(SceneError::Unused { kind: 2 });
+            return Err(SceneError::Unused { kind: 3 });
         }
-        if let Some(i) = parts
-            .instances
-            .iter()
-            .position(|inst| inst.tree as usize >= parts.trees.len())
-        {
-            return Err(SceneError::BadInstance { inst: i });
+        if next_inst != parts.instances.len() || next_unbounded != parts.unbounded.len() {
+            return Err(bad_first);
         }
-        let origin_slack = origin_slack(parts.instances);
-        let top = Bvh8Ref::<InstanceBox>::new(
-            parts.top.nodes,
-            parts.top.blocks,
-            parts.top.ids,
-            parts.instances.len(),
-        )
-        .map_err(SceneError::Top)?;
-        if let Some(at) = parts
-            .unbounded
-            .iter()
-            .position(|&i| i as usize >= parts.instances.len())
-        {
+        // The world's instances: any tree, paths counted as in a group.
+        let mut paths = 0u32;
+        for (k, inst) in parts.instances[..roots].iter().enumerate() {
+            let tree = parts
+                .trees
+                .get(inst.tree as usize)
+                .ok_or(SceneError::BadInstance { inst: k })?;
+            if inst.path != paths {
+                return Err(SceneError::BadInstance { inst: k });
+            }
+            paths = paths.checked_add(tree.paths).ok_or(SceneError::TooMany)?;
+        }
+        let top = Bvh8Ref::<InstanceBox>::new(root_top.nodes, root_top.blocks, root_top.ids, roots)
+            .map_err(SceneError::Top)?;
+        let unbounded = &parts.unbounded[..root_unbounded];
+        if let Some(at) = unbounded.iter().position(|&i| i as usize >= roots) {
             return Err(SceneError::BadUnbounded { at });
         }
-        Ok(Self::with_sole(parts, top, origin_slack))
+        let instances = &parts.instances[..roots];
+        let root = Level {
+            top,
+            first: 0,
+            instances,
+            unbounded,
+            slack: origin_slack(instances, parts.trees),
+            mask: u32::MAX,
+        };
+        Ok(Self::with_sole(parts, root))
     }
 
     /// The scene, with the only instance's tree found once.
-    fn with_sole(parts: SceneParts<'a>, top: Bvh8Ref<'a, InstanceBox>, origin_slack: f32) -> Self {
+    fn with_sole(parts: SceneParts<'a>, root: Level<'a>) -> Self {
         let mut s = Self {
             parts,
-            top,
-            origin_slack,
+            root,
+            nested: root.instances.len() != parts.instances.len()
+                || parts.trees.iter().any(|t| t.kind == INSTANCES),
             sole: None,
         };
         if let [only] = parts.instances {
@@ -457,12 +624,8 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
 
     /// A scene [`Scene`] built (valid by construction: not validated again).
     #[cfg(feature = "alloc")]
-    pub(crate) fn built(
-        parts: SceneParts<'a>,
-        top: Bvh8Ref<'a, InstanceBox>,
-        origin_slack: f32,
-    ) -> Self {
-        Self::with_sole(parts, top, origin_slack)
+    pub(crate) fn built(parts: SceneParts<'a>, root: Level<'a>) -> Self {
+        Self::with_sole(parts, root)
     }
 
     /// The slices (to store the scene: `bytemuck::cast_slice` each to bytes).
@@ -475,29 +638,28 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
         self.parts.geometries
     }
 
-    /// The bottom-level trees.
+    /// The trees (of geometries, and groups).
     pub fn trees(&self) -> &'a [SceneTree] {
         self.parts.trees
     }
 
-    /// The instances.
+    /// The instances: the world's, then each group's.
     pub fn instances(&self) -> &'a [Instance] {
         self.parts.instances
     }
 
-    /// The top-level tree over the bounded instances.
-    pub fn top(&self) -> Bvh8Ref<'a, InstanceBox> {
-        self.top
+    /// The world's level: its instances, the top-level tree over their boxes, those outside it.
+    pub fn world(&self) -> Level<'a> {
+        self.root
     }
 
-    /// The instances every ray visits (not in the top-level tree).
-    pub fn unbounded(&self) -> &'a [u32] {
-        self.parts.unbounded
-    }
-
-    /// The relative origin slack of the top level's box tests (at least [`SLACK`]).
-    pub fn origin_slack(&self) -> f32 {
-        self.origin_slack
+    /// The number of instance paths (a hit's `inst` is below it): the world's instances when
+    /// no group is placed; what instancing multiplies the trees into.
+    pub fn paths(&self) -> u64 {
+        self.root.instances.last().map_or(0, |i| {
+            let below = self.parts.trees.get(i.tree as usize).map_or(0, |t| t.paths);
+            u64::from(i.path) + u64::from(below)
+        })
     }
 
     /// Instance `inst` and its tree (`None` when `inst` is out of range).
@@ -510,25 +672,76 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
         }
     }
 
-    /// Tree `t`'s members (empty when `t` is out of range).
-    #[inline]
-    pub fn members(&self, t: u32) -> &'a [Member] {
-        self.parts
-            .trees
-            .get(t as usize)
-            .and_then(|tr| {
-                self.parts
-                    .members
-                    .get(tr.first_member as usize..)?
-                    .get(..tr.members as usize)
-            })
-            .unwrap_or(&[])
+    /// The instances on instance path `path` (a hit's `inst`), the world's first; `None` when no
+    /// path has that number.
+    pub fn instance_path(&self, path: u32) -> Option<InstancePath> {
+        let mut out = InstancePath {
+            len: 0,
+            insts: [0; MAX_INSTANCE_LEVELS as usize],
+        };
+        let mut level = self.root;
+        let mut rest = path;
+        loop {
+            // Paths start at 0 and grow with the instances (validated): the last instance whose
+            // first path is at or before `rest`.
+            let k = level
+                .instances
+                .partition_point(|i| i.path <= rest)
+                .checked_sub(1)?;
+            let inst = &level.instances[k];
+            *out.insts.get_mut(out.len)? = level.first + k as u32;
+            out.len += 1;
+            rest -= inst.path;
+            match self.tree(inst.tree)? {
+                TreeRef::Instances(l) => level = l,
+                _ => return (rest == 0).then_some(out),
+            }
+        }
     }
 
-    /// Tree `t` with its members (`None` when `t` is out of range).
+    /// The instance that places the geometries of instance path `path`: the path's last (in a
+    /// scene without groups, `path` itself).
+    #[inline]
+    pub fn leaf_instance(&self, path: u32) -> Option<u32> {
+        if self.nested {
+            self.instance_path(path).map(|p| p.leaf())
+        } else {
+            Some(path)
+        }
+    }
+
+    /// Tree `t`'s members (empty when `t` is out of range or a group).
+    #[inline]
+    pub fn members(&self, t: u32) -> &'a [Member] {
+        match self.tree(t) {
+            Some(TreeRef::Triangles(_, m) | TreeRef::Spheres(_, m)) => m,
+            _ => &[],
+        }
+    }
+
+    /// Tree `t` with its members, or a group's level (`None` when `t` is out of range).
     #[inline]
     pub fn tree(&self, t: u32) -> Option<TreeRef<'a, T, S>> {
         let tr = self.parts.trees.get(t as usize)?;
+        if tr.kind == INSTANCES {
+            let p = sub_tree(&self.parts.top, tr, InstanceBox::WORDS)?;
+            let first = tr.first_member as usize;
+            let u0 = tr.first_unbounded as usize;
+            return Some(TreeRef::Instances(Level {
+                top: Bvh8Ref::trusted(p.nodes, p.blocks, p.ids, tr.prims),
+                first: tr.first_member,
+                instances: self
+                    .parts
+                    .instances
+                    .get(first..first.checked_add(tr.members as usize)?)?,
+                unbounded: self
+                    .parts
+                    .unbounded
+                    .get(u0..u0.checked_add(tr.unbounded as usize)?)?,
+                slack: tr.slack,
+                mask: tr.mask,
+            }));
+        }
         let members = self
             .parts
             .members
@@ -551,4 +764,63 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
             }
         })
     }
+}
+
+/// Checks group `i` (its tree already checked): its instances follow `next_inst` and place
+/// trees before it, their paths count up from 0, its levels, paths, mask and slack are what
+/// they make them, its unbounded entries follow `next_unbounded` and name its instances.
+fn check_group(
+    parts: &SceneParts<'_>,
+    i: usize,
+    next_inst: &mut usize,
+    next_unbounded: &mut usize,
+) -> Result<(), SceneError> {
+    let g = &parts.trees[i];
+    let bad = SceneError::BadGroup { tree: i };
+    let first = g.first_member as usize;
+    let end = first.checked_add(g.members as usize).ok_or(bad)?;
+    if first != *next_inst || g.members != g.prims {
+        return Err(bad);
+    }
+    let instances = parts.instances.get(first..end).ok_or(bad)?;
+    let u0 = g.first_unbounded as usize;
+    let u1 = u0.checked_add(g.unbounded as usize).ok_or(bad)?;
+    if u0 != *next_unbounded
+        || !parts
+            .unbounded
+            .get(u0..u1)
+            .ok_or(bad)?
+            .iter()
+            .all(|&k| (first..end).contains(&(k as usize)))
+    {
+        return Err(bad);
+    }
+    let (mut paths, mut levels, mut mask) = (0u32, 0u32, 0u32);
+    for (k, inst) in instances.iter().enumerate() {
+        let bad_inst = SceneError::BadInstance { inst: first + k };
+        // Trees before the group were checked before it: their fields can be trusted here.
+        let child = parts
+            .trees
+            .get(inst.tree as usize)
+            .filter(|_| (inst.tree as usize) < i)
+            .ok_or(bad_inst)?;
+        if inst.path != paths {
+            return Err(bad_inst);
+        }
+        paths = paths.checked_add(child.paths).ok_or(SceneError::TooMany)?;
+        levels = levels.max(child.levels);
+        mask |= inst.mask;
+    }
+    let slack = origin_slack(instances, parts.trees);
+    if g.paths != paths
+        || g.levels != levels + 1
+        || g.levels >= MAX_INSTANCE_LEVELS
+        || g.mask != mask
+        || g.slack.to_bits() != slack.to_bits()
+    {
+        return Err(bad);
+    }
+    *next_inst = end;
+    *next_unbounded = u1;
+    Ok(())
 }

@@ -108,35 +108,43 @@ impl Transform {
         self.inverse().map(|(_, c)| c)
     }
 
-    /// The relative origin slack the top level's box tests need for this instance:
-    /// `1.05·κ·(SLACK + 4ε)`, at least [`SLACK`]; `None` when the instance is not bounded
-    /// ([`Transform::world_box`]).
-    pub(crate) fn origin_slack(&self) -> Option<f32> {
+    /// The relative origin slack its level's box tests need for this instance when the tree it
+    /// places tests its boxes with relative origin slack `inner` ([`SLACK`] for geometries):
+    /// `1.05·κ·(inner + 4ε)`, at least [`SLACK`]; `None` when the instance is not bounded
+    /// ([`Transform::world_box_within`]).
+    pub fn origin_slack_within(&self, inner: f32) -> Option<f32> {
         let (_, cond) = self.inverse()?;
-        (cond <= MAX_CONDITION).then(|| {
-            let s = 1.05 * cond * (f64::from(SLACK) + 4.0 * EPS);
-            (s as f32).next_up().max(SLACK)
-        })
+        let s = 1.05 * cond * (f64::from(inner) + 4.0 * EPS);
+        (cond <= MAX_CONDITION && inner.is_finite() && (s as f32).is_finite())
+            .then(|| (s as f32).next_up().max(SLACK))
     }
 
-    /// The world box of an instance whose object box is `obj`: a box that holds every world
-    /// point `q` whose transformed ray's hit lies in `obj` — `A⁻¹(obj − b)`, grown by what the
-    /// ray's rounding into object space can move a hit (the part that grows with the ray's
-    /// origin is the top level's origin slack, [`crate::scene::SceneRef::origin_slack`]). `None` when the
+    /// The world box of an instance of a tree of geometries whose object box is `obj`:
+    /// [`Transform::world_box_within`] at the geometries' slack, [`SLACK`].
+    pub fn world_box(&self, obj: &Aabb) -> Option<Aabb> {
+        self.world_box_within(obj, SLACK)
+    }
+
+    /// The box in its level's space (the world's or a group's) of an instance whose object box
+    /// is `obj`, in which the tree it places tests boxes with relative origin slack `inner`
+    /// ([`SLACK`] for geometries, a group's [`crate::scene::SceneTree::slack`]): a box that holds
+    /// every point `q` whose transformed ray's hit lies in `obj` — `A⁻¹(obj − b)`, grown by what
+    /// the ray's rounding into object space can move a hit (the part that grows with the ray's
+    /// origin is the level's origin slack, [`Transform::origin_slack_within`]). `None` when the
     /// condition number exceeds [`MAX_CONDITION`], the box is empty, or a bound is not finite:
     /// every ray visits such an instance.
     ///
     /// Derivation: with `o' = A·o + b − δₒ` and `d' = A·d − δ_d` the rounded ray, a hit at `t`
-    /// whose object point `p = o' + t·d'` lies in `obj` grown by the bottom tree's origin slack
-    /// `SLACK·‖o'‖` has its world point `q = o + t·d` with `A·q + b = p + δₒ + t·δ_d`, where
+    /// whose object point `p = o' + t·d'` lies in `obj` grown by the inner origin slack
+    /// `inner·‖o'‖` has its point `q = o + t·d` with `A·q + b = p + δₒ + t·δ_d`, where
     /// `‖δₒ‖ ≤ ε‖o'‖` and `‖t·δ_d‖ ≤ ε·t‖d'‖ ≤ ε(‖obj‖ + ‖o'‖)` (all ∞-norms, up to `2⁻⁵⁰`
-    /// terms). So `q` lies in `A⁻¹(obj − b)` grown by `‖A⁻¹‖((SLACK + 2ε)‖o'‖ + ε‖obj‖)`, and
-    /// `‖o'‖ ≤ ‖A‖‖o‖ + ‖b‖`: a static part `‖A⁻¹‖((SLACK + 2ε)‖b‖ + ε‖obj‖)` and a part
-    /// `κ(SLACK + 2ε)‖o‖`. Both are doubled in ε and taken 5 % larger for the f64 terms and
+    /// terms). So `q` lies in `A⁻¹(obj − b)` grown by `‖A⁻¹‖((inner + 2ε)‖o'‖ + ε‖obj‖)`, and
+    /// `‖o'‖ ≤ ‖A‖‖o‖ + ‖b‖`: a static part `‖A⁻¹‖((inner + 2ε)‖b‖ + ε‖obj‖)` and a part
+    /// `κ(inner + 2ε)‖o‖`. Both are doubled in ε and taken 5 % larger for the f64 terms and
     /// roundings; the f64 inverse's own error adds `2⁻⁴⁰·κ·‖A⁻¹‖(‖obj‖ + ‖b‖)`.
-    pub fn world_box(&self, obj: &Aabb) -> Option<Aabb> {
+    pub fn world_box_within(&self, obj: &Aabb, inner: f32) -> Option<Aabb> {
         let (inv, cond) = self.inverse()?;
-        if cond > MAX_CONDITION || !obj.is_finite() {
+        if cond > MAX_CONDITION || !obj.is_finite() || !inner.is_finite() {
             return None;
         }
         let b = [0, 1, 2].map(|i| f64::from(self.rows[i][3]));
@@ -165,7 +173,7 @@ impl Transform {
                 hi[i] = hi[i].max(w);
             }
         }
-        let slack = f64::from(SLACK);
+        let slack = f64::from(inner);
         let grow = 1.05 * norm_inv * ((slack + 4.0 * EPS) * norm_b + 2.0 * EPS * norm_obj)
             + cond * norm_inv * (norm_obj + norm_b) / 1_099_511_627_776.0;
         let down = |x: f64| {

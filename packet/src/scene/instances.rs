@@ -14,34 +14,59 @@ use octoray_core::kernels::Kernel;
 use octoray_core::lanes::{LaneMask, Lanes, MAX_LANES};
 use octoray_core::prim::{Ray, RayLanes};
 use octoray_core::query::ClosestHit;
-use octoray_core::scene::{Instance, SceneRef, TreeRef};
+use octoray_core::scene::{Instance, Level, SceneRef, TreeRef};
 use wide::f32x8;
 
-/// The top level's leaves: instances of `scene` visited under the query's `mask`, their
-/// triangles tested with `KT` and their spheres with `KS`.
+/// A level's leaves (the world's top-level tree, or a group's): its instances visited under
+/// `mask` (the query's and the instances' above), their triangles tested with `KT` and their
+/// spheres with `KS`, their hits numbered from instance path `path`.
 struct Instances<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> {
     scene: &'s SceneRef<'a, KT::Prim, KS::Prim>,
+    level: Level<'a>,
     mask: u32,
+    path: u32,
 }
 
-impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'_, '_, L, KT, KS> {
-    /// The instance and its tree, with what the leaves need to name each hit's geometry, when
-    /// the masks admit the query: the instance's (and a single geometry's) before the tree is
-    /// entered; in a tree of several geometries, each geometry's at its hits.
+/// A tree of geometries, by kind.
+enum Geometries<'a, T, S> {
+    Triangles(Bvh8Ref<'a, T>),
+    Spheres(Bvh8Ref<'a, S>),
+}
+
+/// What a ray meets on entering an instance its masks admit.
+enum Entered<'a, T, S> {
+    /// A tree of geometries, with what the leaves need to name each hit.
+    Tree(Geometries<'a, T, S>, (u32, u32, Members<'a>)),
+    /// A group, with the mask and first path below it.
+    Group(Level<'a>, u32, u32),
+}
+
+impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS> {
+    /// The world's level of `scene` under the query's `mask`.
+    fn world(scene: &'s SceneRef<'a, KT::Prim, KS::Prim>, mask: u32) -> Self {
+        Self {
+            scene,
+            level: scene.world(),
+            mask,
+            path: 0,
+        }
+    }
+
+    /// The instance and what it places, when the masks admit the query: the instance's (and a
+    /// single geometry's, or a group's) before the tree is entered; in a tree of several
+    /// geometries, each geometry's at its hits.
     #[inline(always)]
     #[allow(clippy::type_complexity)]
-    fn enter(
-        &self,
-        inst: u32,
-    ) -> Option<(
-        &Instance,
-        TreeRef<'_, KT::Prim, KS::Prim>,
-        (u32, u32, Members<'_>),
-    )> {
+    fn enter(&self, inst: u32) -> Option<(&'a Instance, Entered<'a, KT::Prim, KS::Prim>)> {
         let (i, tree) = self.scene.instance_tree(inst)?;
         let mask = i.mask & self.mask;
-        let members = match &tree {
-            TreeRef::Triangles(_, m) | TreeRef::Spheres(_, m) => *m,
+        let path = self.path.wrapping_add(i.path);
+        let (tree, members) = match tree {
+            TreeRef::Triangles(b, m) => (Geometries::Triangles(b), m),
+            TreeRef::Spheres(b, m) => (Geometries::Spheres(b), m),
+            TreeRef::Instances(level) => {
+                return (level.mask & mask != 0).then_some((i, Entered::Group(level, mask, path)));
+            }
         };
         let geoms = self.scene.geometries();
         let place = if let [one] = members {
@@ -49,7 +74,7 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'_, '_, L, KT, KS> {
             if g.mask & mask == 0 {
                 return None;
             }
-            (one.geom, inst, Members::ONE)
+            (one.geom, path, Members::ONE)
         } else {
             if mask == 0 {
                 return None;
@@ -61,7 +86,7 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'_, '_, L, KT, KS> {
                 .is_some_and(|t| t.mask & mask != 0);
             (
                 0,
-                inst,
+                path,
                 Members {
                     members,
                     geoms,
@@ -70,10 +95,20 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'_, '_, L, KT, KS> {
                 },
             )
         };
-        Some((i, tree, place))
+        Some((i, Entered::Tree(tree, place)))
     }
 
-    /// One world ray through instance `inst`.
+    /// The level below a group instance.
+    fn below(&self, level: Level<'a>, mask: u32, path: u32) -> Self {
+        Self {
+            scene: self.scene,
+            level,
+            mask,
+            path,
+        }
+    }
+
+    /// One ray (in this level's space) through instance `inst`.
     #[inline(always)]
     fn single_instance<F: HitFilter, const ANY: bool>(
         &self,
@@ -83,23 +118,81 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'_, '_, L, KT, KS> {
         filter: &mut F,
         ray_id: u32,
     ) -> bool {
-        let Some((i, tree, place)) = self.enter(inst) else {
+        let Some((i, entered)) = self.enter(inst) else {
             return false;
         };
         let ray = i.transform.apply(world);
-        visit::<L, KT, KS, _>(
-            tree,
-            place,
-            SingleWalk::<L, F, ANY> {
-                ray: &ray,
+        match entered {
+            Entered::Tree(tree, place) => visit::<L, KT, KS, _>(
+                tree,
+                place,
+                SingleWalk::<L, F, ANY> {
+                    ray: &ray,
+                    best,
+                    filter,
+                    ray_id,
+                },
+            ),
+            Entered::Group(level, mask, path) => self
+                .below(level, mask, path)
+                .single_group::<F, ANY>(&ray, best, filter, ray_id),
+        }
+    }
+
+    /// One ray (in this level's space) through the level: its tree, then its unbounded
+    /// instances. Not inlined: a group's walk calls it again one level down.
+    #[inline(never)]
+    fn single_group<F: HitFilter, const ANY: bool>(
+        &self,
+        ray: &Ray,
+        best: &mut Option<Best<L::Scalar>>,
+        filter: &mut F,
+        ray_id: u32,
+    ) -> bool {
+        self.single_level::<F, ANY>(ray, best, filter, ray_id)
+    }
+
+    /// [`Instances::single_group`]'s body.
+    #[inline(always)]
+    fn single_level<F: HitFilter, const ANY: bool>(
+        &self,
+        ray: &Ray,
+        best: &mut Option<Best<L::Scalar>>,
+        filter: &mut F,
+        ray_id: u32,
+    ) -> bool {
+        let br = BoxRay::with_slack(&RayLanes::<f32x8>::broadcast(ray), self.level.slack);
+        // A ray that is not valid in one space is not valid in the next (a zero direction stays
+        // zero, a non-finite component non-finite or NaN).
+        if br.valid.none() {
+            return false;
+        }
+        let top = self.level.top;
+        if !top.nodes().is_empty()
+            && trace_single::<L, _, F, ANY>(
+                top.nodes(),
+                self,
+                &(),
+                &RayLanes::<L>::broadcast(ray),
+                &br,
+                (0, 0),
                 best,
                 filter,
                 ray_id,
-            },
-        )
+            )
+            && ANY
+        {
+            return true;
+        }
+        for &inst in self.level.unbounded {
+            if self.single_instance::<F, ANY>(inst, ray, best, filter, ray_id) && ANY {
+                return true;
+            }
+        }
+        false
     }
 
-    /// The lanes `live` of a world packet through instance `inst`.
+    /// The lanes `live` of a packet (in this level's space) through instance `inst`.
     #[inline(always)]
     fn packet_instance<F: HitFilter, const ANY: bool>(
         &self,
@@ -110,7 +203,7 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'_, '_, L, KT, KS> {
         filter: &mut F,
         ray_base: u32,
     ) {
-        let Some((i, tree, place)) = self.enter(inst) else {
+        let Some((i, entered)) = self.enter(inst) else {
             return;
         };
         // Each lane carried as its single ray is (the same bits; the identity keeps them).
@@ -128,16 +221,66 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'_, '_, L, KT, KS> {
                 ..RayLanes::<L>::load(&lanes)
             }
         };
-        visit::<L, KT, KS, _>(
-            tree,
-            place,
-            PacketWalk::<L, F, ANY> {
-                rays: &rays,
-                best,
-                filter,
-                ray_base,
-            },
+        match entered {
+            Entered::Tree(tree, place) => visit::<L, KT, KS, _>(
+                tree,
+                place,
+                PacketWalk::<L, F, ANY> {
+                    rays: &rays,
+                    best,
+                    filter,
+                    ray_base,
+                },
+            ),
+            Entered::Group(level, mask, path) => self
+                .below(level, mask, path)
+                .packet_group::<F, ANY>(&rays, best, filter, ray_base),
+        }
+    }
+
+    /// A packet (in this level's space, its live lanes `rays.active`) through the level: its
+    /// tree, then its unbounded instances. Not inlined, as [`Instances::single_group`].
+    #[inline(never)]
+    fn packet_group<F: HitFilter, const ANY: bool>(
+        &self,
+        rays: &RayLanes<L>,
+        best: &mut PacketBest<L>,
+        filter: &mut F,
+        ray_base: u32,
+    ) {
+        self.packet_level::<F, ANY>(rays, best, filter, ray_base);
+    }
+
+    /// [`Instances::packet_group`]'s body.
+    #[inline(always)]
+    fn packet_level<F: HitFilter, const ANY: bool>(
+        &self,
+        rays: &RayLanes<L>,
+        best: &mut PacketBest<L>,
+        filter: &mut F,
+        ray_base: u32,
+    ) {
+        let br = BoxRay::with_slack(rays, self.level.slack);
+        if br.valid.none() {
+            return;
+        }
+        packet_walk::<L, _, F, ANY>(
+            self.level.top.nodes(),
+            self,
+            &(),
+            rays,
+            &br,
+            best,
+            filter,
+            ray_base,
         );
+        for &inst in self.level.unbounded {
+            let live = if ANY { br.valid & !best.mask } else { br.valid };
+            if live.none() {
+                break;
+            }
+            self.packet_instance::<F, ANY>(inst, rays, live, best, filter, ray_base);
+        }
     }
 }
 
@@ -158,16 +301,16 @@ trait TreeWalk<L: Lanes> {
 /// of several geometries.
 #[inline(always)]
 fn visit<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, W: TreeWalk<L>>(
-    tree: TreeRef<'_, KT::Prim, KS::Prim>,
+    tree: Geometries<'_, KT::Prim, KS::Prim>,
     place: (u32, u32, Members<'_>),
     w: W,
 ) -> W::Out {
     let many = !place.2.members.is_empty();
     match (tree, many) {
-        (TreeRef::Triangles(b, _), false) => w.walk::<KT, false>(b, place),
-        (TreeRef::Triangles(b, _), true) => w.walk::<KT, true>(b, place),
-        (TreeRef::Spheres(b, _), false) => w.walk::<KS, false>(b, place),
-        (TreeRef::Spheres(b, _), true) => w.walk::<KS, true>(b, place),
+        (Geometries::Triangles(b), false) => w.walk::<KT, false>(b, place),
+        (Geometries::Triangles(b), true) => w.walk::<KT, true>(b, place),
+        (Geometries::Spheres(b), false) => w.walk::<KS, false>(b, place),
+        (Geometries::Spheres(b), true) => w.walk::<KS, true>(b, place),
     }
 }
 
@@ -235,8 +378,9 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Leaf<L> for Instances<'_, '_, L, KT
         ray_id: u32,
     ) -> bool {
         let world = rl.ray(0);
-        let ids = self.scene.top().ids();
-        for &inst in &ids[first..first + count] {
+        let ids = self.level.top.ids();
+        for &k in &ids[first..first + count] {
+            let inst = self.level.first + k;
             if self.single_instance::<F, ANY>(inst, &world, best, filter, ray_id) && ANY {
                 return true;
             }
@@ -255,8 +399,9 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Leaf<L> for Instances<'_, '_, L, KT
         filter: &mut F,
         ray_base: u32,
     ) {
-        let ids = self.scene.top().ids();
-        for &inst in &ids[first..first + count] {
+        let ids = self.level.top.ids();
+        for &k in &ids[first..first + count] {
+            let inst = self.level.first + k;
             let live = if ANY { live & !best.mask } else { live };
             if live.none() {
                 return;
@@ -266,15 +411,16 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Leaf<L> for Instances<'_, '_, L, KT
     }
 }
 
-/// The members of instance `inst`'s tree, to find hits' geometries after the walk.
-fn members_of<'a, T, S>(scene: &SceneRef<'a, T, S>, inst: u32) -> Members<'a>
+/// The members of the tree at the end of instance path `path`, to find hits' geometries after
+/// the walk.
+fn members_of<'a, T, S>(scene: &SceneRef<'a, T, S>, path: u32) -> Members<'a>
 where
     T: octoray_core::prim::Primitive,
     S: octoray_core::prim::Primitive,
 {
     let members = scene
-        .instances()
-        .get(inst as usize)
+        .leaf_instance(path)
+        .and_then(|k| scene.instances().get(k as usize))
         .map_or(&[][..], |i| scene.members(i.tree));
     Members {
         members,
@@ -352,43 +498,15 @@ fn walk_single<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: 
     ray_id: u32,
 ) -> (bool, Option<Best<L::Scalar>>) {
     let mut best = None;
-    let leaf = Instances::<L, KT, KS> { scene, mask };
-    if scene.instances().len() == 1 {
+    let leaf = Instances::<L, KT, KS>::world(scene, mask);
+    let any = if scene.instances().len() == 1 {
         // One instance (a renderer's static world): no top level to walk; its tree's root test
         // is the only box test it needs.
-        let any = leaf.single_instance::<F, ANY>(0, ray, &mut best, filter, ray_id);
-        return (any, best);
-    }
-    let rl = RayLanes::<L>::broadcast(ray);
-    let br = BoxRay::with_slack(&RayLanes::<f32x8>::broadcast(ray), scene.origin_slack());
-    // A ray that is not valid in the world is not valid in any object space (a zero direction
-    // stays zero, a non-finite component non-finite or NaN).
-    if br.valid.none() {
-        return (false, best);
-    }
-    let top = scene.top();
-    if !top.nodes().is_empty()
-        && trace_single::<L, _, F, ANY>(
-            top.nodes(),
-            &leaf,
-            &(),
-            &rl,
-            &br,
-            (0, 0),
-            &mut best,
-            filter,
-            ray_id,
-        )
-        && ANY
-    {
-        return (true, best);
-    }
-    for &inst in scene.unbounded() {
-        if leaf.single_instance::<F, ANY>(inst, ray, &mut best, filter, ray_id) && ANY {
-            return (true, best);
-        }
-    }
-    (false, best)
+        leaf.single_instance::<F, ANY>(0, ray, &mut best, filter, ray_id)
+    } else {
+        leaf.single_level::<F, ANY>(ray, &mut best, filter, ray_id)
+    };
+    (any, best)
 }
 
 /// A world packet through the scene.
@@ -416,32 +534,12 @@ fn walk_packet<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: 
     ray_base: u32,
     best: &mut PacketBest<L>,
 ) {
-    let leaf = Instances::<L, KT, KS> { scene, mask };
+    let leaf = Instances::<L, KT, KS>::world(scene, mask);
     if scene.instances().len() == 1 {
         // As in `scene_single`.
         leaf.packet_instance::<F, ANY>(0, rays, rays.active, best, filter, ray_base);
-        return;
-    }
-    let br = BoxRay::with_slack(rays, scene.origin_slack());
-    if br.valid.none() {
-        return;
-    }
-    packet_walk::<L, _, F, ANY>(
-        scene.top().nodes(),
-        &leaf,
-        &(),
-        rays,
-        &br,
-        best,
-        filter,
-        ray_base,
-    );
-    for &inst in scene.unbounded() {
-        let live = if ANY { br.valid & !best.mask } else { br.valid };
-        if live.none() {
-            break;
-        }
-        leaf.packet_instance::<F, ANY>(inst, rays, live, best, filter, ray_base);
+    } else {
+        leaf.packet_level::<F, ANY>(rays, best, filter, ray_base);
     }
 }
 

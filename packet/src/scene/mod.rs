@@ -61,8 +61,9 @@ pub use instances::Trace;
 pub use octoray_core::scene::Scene;
 #[doc(inline)]
 pub use octoray_core::scene::{
-    Geometry, Instance, InstanceBox, Member, SceneError, SceneParts, SceneRef, SceneTree,
-    Transform, TreeParts, TreeRef, MAX_CONDITION, SPHERES, TRIANGLES,
+    Geometry, Instance, InstanceBox, InstancePath, Level, Member, SceneError, SceneParts, SceneRef,
+    SceneTree, Transform, TreeParts, TreeRef, INSTANCES, MAX_CONDITION, MAX_INSTANCE_LEVELS,
+    SPHERES, TRIANGLES,
 };
 
 pub use walk::{
