@@ -222,7 +222,46 @@ where
             }
         }
     }
+    // A mask per ray: packets mixing masks, slices too, each ray as brute force under its own.
+    if masks.len() > 1 {
+        let per_ray: Vec<u32> = (0..rays.len())
+            .map(|k| masks[(k * 7 / 3) % masks.len()])
+            .collect();
+        let mut batch = vec![None; rays.len()];
+        scene.closest::<L, KT, KS>(rays, &per_ray[..], &mut batch);
+        let mut occ = vec![false; rays.len()];
+        scene.occluded::<L, KT, KS>(rays, &per_ray[..], &mut occ);
+        for (c, chunk) in rays.chunks(L::LANES).enumerate() {
+            let p = RayLanes::<L>::load(chunk);
+            let lanes: Vec<u32> = (0..L::LANES)
+                .map(|i| per_ray.get(c * L::LANES + i).copied().unwrap_or(0))
+                .collect();
+            let packet = scene.closest_packet::<L, KT, KS>(&p, &lanes[..]);
+            let any_packet = scene.occluded_packet::<L, KT, KS>(&p, &lanes[..]).bitmask();
+            for (i, ray) in chunk.iter().enumerate() {
+                let k = c * L::LANES + i;
+                let (want, any) = brute::<S1, KT, KS>(w, ray, per_ray[k]);
+                let want = bits(want);
+                assert_eq!(bits(packet.lane(i)), want, "per-lane masks, {ray:?}");
+                assert_eq!(bits(batch[k]), want, "per-ray masks, slice, {ray:?}");
+                assert_eq!((any_packet >> i) & 1 == 1, any, "per-lane masks, occluded");
+                assert_eq!(occ[k], any, "per-ray masks, occluded slice, {ray:?}");
+            }
+        }
+    }
     hits
+}
+
+/// A packet's ray masks must be one per lane, a slice's one per ray.
+#[test]
+#[should_panic(expected = "7 ray masks for 8 rays")]
+fn ray_masks_of_the_wrong_length_panic() {
+    let (w, rays) = world(3, pack_vertex);
+    let scene = w.scene();
+    let p = RayLanes::<f32x8>::load(&rays[..8]);
+    scene
+        .as_ref()
+        .closest_packet::<f32x8, Watertight, StableSphere>(&p, &[!0u32; 7][..]);
 }
 
 /// A random placement: identity, rigid, scaled (uniform, non-uniform, mirrored), sheared, nearly

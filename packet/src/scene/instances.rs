@@ -2,6 +2,7 @@
 //! instance's object space and walk its geometry's tree ([`Instances`], a [`Leaf`]).
 
 use super::epilog::{Best, PacketBest};
+use super::masks::{check_masks, RayMasks};
 use super::slab::BoxRay;
 use super::walk::{
     closest_slice, occluded_slice, packet_result, packet_walk, run_packet, run_single,
@@ -509,16 +510,37 @@ fn walk_single<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: 
     (any, best)
 }
 
-/// A world packet through the scene.
+/// A world packet through the scene, lane `k` under mask `masks.at(ray_base + k)`: one walk
+/// per distinct mask among the live lanes (one when they share it).
 fn scene_packet<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: bool>(
     scene: &SceneRef<'_, KT::Prim, KS::Prim>,
     rays: &RayLanes<L>,
-    mask: u32,
+    masks: impl RayMasks,
     filter: &mut F,
     ray_base: u32,
 ) -> PacketBest<L> {
     let mut best = PacketBest::new(rays.t_max);
-    walk_packet::<L, KT, KS, F, ANY>(scene, rays, mask, filter, ray_base, &mut best);
+    if let Some(mask) = masks.uniform() {
+        walk_packet::<L, KT, KS, F, ANY>(scene, rays, mask, filter, ray_base, &mut best);
+    } else {
+        let base = ray_base as usize;
+        let mut left = rays.active.bitmask();
+        while left != 0 {
+            let mask = masks.at(base + left.trailing_zeros() as usize);
+            let mut same = left;
+            for k in 0..L::LANES {
+                if masks.at(base + k) != mask {
+                    same &= !(1 << k);
+                }
+            }
+            let lanes = RayLanes {
+                active: rays.active & L::mask_from_bits(same),
+                ..*rays
+            };
+            walk_packet::<L, KT, KS, F, ANY>(scene, &lanes, mask, filter, ray_base, &mut best);
+            left &= !same;
+        }
+    }
     if !ANY && best.unplaced {
         placed_packet(scene, &mut best);
     }
@@ -547,7 +569,9 @@ fn walk_packet<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: 
 /// slice of rays, triangles tested with kernel `KT` and spheres with `KS` at lane width `L`.
 ///
 /// `mask` is the query's mask: an instance is visited only when its mask, its geometry's mask
-/// and `mask` share a bit (tested before its subtree is entered). Every answer equals brute
+/// and `mask` share a bit (tested before its subtree is entered). Packets and slices take a
+/// [`RayMasks`]: one `u32` for every ray, or a `&[u32]` with one per lane or ray (a packet's
+/// lanes that share a mask are walked together, one walk per distinct mask). Every answer equals brute
 /// force over the instanced primitives under the scene contract
 /// ([`octoray_core::scene`]); the hit's `geom` and `inst` name where it lies. The `_with` forms
 /// take a [`HitFilter`] that sees every candidate with its geometry and instance.
@@ -579,14 +603,23 @@ pub trait Trace<T, S> {
         mask: u32,
         filter: &mut F,
     ) -> bool;
-    /// Closest hit per lane of a packet (lane by lane equal to [`Trace::closest_ray`]).
+    /// Closest hit per lane of a packet (lane by lane equal to [`Trace::closest_ray`] under the
+    /// lane's mask).
+    ///
+    /// # Panics
+    /// When `mask` is a slice of other than `L::LANES` masks.
+    #[track_caller]
     fn closest_packet<L: Lanes, KT: Kernel<L, Prim = T>, KS: Kernel<L, Prim = S>>(
         &self,
         rays: &RayLanes<L>,
-        mask: u32,
+        mask: impl RayMasks,
     ) -> ClosestHit<L>;
     /// [`Trace::closest_packet`] counting only the hits `filter` accepts (the candidate's `ray`
     /// is its lane).
+    ///
+    /// # Panics
+    /// When `mask` is a slice of other than `L::LANES` masks.
+    #[track_caller]
     fn closest_packet_with<
         L: Lanes,
         KT: Kernel<L, Prim = T>,
@@ -595,16 +628,24 @@ pub trait Trace<T, S> {
     >(
         &self,
         rays: &RayLanes<L>,
-        mask: u32,
+        mask: impl RayMasks,
         filter: &mut F,
     ) -> ClosestHit<L>;
     /// Lanes of a packet that hit anything.
+    ///
+    /// # Panics
+    /// When `mask` is a slice of other than `L::LANES` masks.
+    #[track_caller]
     fn occluded_packet<L: Lanes, KT: Kernel<L, Prim = T>, KS: Kernel<L, Prim = S>>(
         &self,
         rays: &RayLanes<L>,
-        mask: u32,
+        mask: impl RayMasks,
     ) -> L::Mask;
     /// [`Trace::occluded_packet`] counting only the hits `filter` accepts.
+    ///
+    /// # Panics
+    /// When `mask` is a slice of other than `L::LANES` masks.
+    #[track_caller]
     fn occluded_packet_with<
         L: Lanes,
         KT: Kernel<L, Prim = T>,
@@ -613,19 +654,20 @@ pub trait Trace<T, S> {
     >(
         &self,
         rays: &RayLanes<L>,
-        mask: u32,
+        mask: impl RayMasks,
         filter: &mut F,
     ) -> L::Mask;
     /// Closest hit of every ray (`out[i]` for `rays[i]`), packets where a chunk of `L::LANES`
     /// rays shares a direction octant, single rays elsewhere (the same answers).
     ///
     /// # Panics
-    /// When `out.len() != rays.len()` or `rays.len() > u32::MAX`.
+    /// When `out.len() != rays.len()`, `mask` is a slice of other than `rays.len()` masks, or
+    /// `rays.len() > u32::MAX`.
     #[track_caller]
     fn closest<L: Lanes, KT: Kernel<L, Prim = T>, KS: Kernel<L, Prim = S>>(
         &self,
         rays: &[Ray],
-        mask: u32,
+        mask: impl RayMasks,
         out: &mut [Option<Hit>],
     ) {
         self.closest_with::<L, KT, KS, _>(rays, mask, out, &mut AcceptAll);
@@ -639,7 +681,7 @@ pub trait Trace<T, S> {
     fn closest_with<L: Lanes, KT: Kernel<L, Prim = T>, KS: Kernel<L, Prim = S>, F: HitFilter>(
         &self,
         rays: &[Ray],
-        mask: u32,
+        mask: impl RayMasks,
         out: &mut [Option<Hit>],
         filter: &mut F,
     );
@@ -651,7 +693,7 @@ pub trait Trace<T, S> {
     fn occluded<L: Lanes, KT: Kernel<L, Prim = T>, KS: Kernel<L, Prim = S>>(
         &self,
         rays: &[Ray],
-        mask: u32,
+        mask: impl RayMasks,
         out: &mut [bool],
     ) {
         self.occluded_with::<L, KT, KS, _>(rays, mask, out, &mut AcceptAll);
@@ -664,7 +706,7 @@ pub trait Trace<T, S> {
     fn occluded_with<L: Lanes, KT: Kernel<L, Prim = T>, KS: Kernel<L, Prim = S>, F: HitFilter>(
         &self,
         rays: &[Ray],
-        mask: u32,
+        mask: impl RayMasks,
         out: &mut [bool],
         filter: &mut F,
     );
@@ -719,14 +761,16 @@ impl<T: octoray_core::prim::Primitive, S: octoray_core::prim::Primitive> Trace<T
         scene_single::<L, KT, KS, F, true>(self, ray, mask, filter, 0).0
     }
 
+    #[track_caller]
     fn closest_packet<L: Lanes, KT: Kernel<L, Prim = T>, KS: Kernel<L, Prim = S>>(
         &self,
         rays: &RayLanes<L>,
-        mask: u32,
+        mask: impl RayMasks,
     ) -> ClosestHit<L> {
         self.closest_packet_with::<L, KT, KS, _>(rays, mask, &mut AcceptAll)
     }
 
+    #[track_caller]
     fn closest_packet_with<
         L: Lanes,
         KT: Kernel<L, Prim = T>,
@@ -735,22 +779,25 @@ impl<T: octoray_core::prim::Primitive, S: octoray_core::prim::Primitive> Trace<T
     >(
         &self,
         rays: &RayLanes<L>,
-        mask: u32,
+        mask: impl RayMasks,
         filter: &mut F,
     ) -> ClosestHit<L> {
+        check_masks("closest_packet", mask, L::LANES);
         packet_result(&scene_packet::<L, KT, KS, F, false>(
             self, rays, mask, filter, 0,
         ))
     }
 
+    #[track_caller]
     fn occluded_packet<L: Lanes, KT: Kernel<L, Prim = T>, KS: Kernel<L, Prim = S>>(
         &self,
         rays: &RayLanes<L>,
-        mask: u32,
+        mask: impl RayMasks,
     ) -> L::Mask {
         self.occluded_packet_with::<L, KT, KS, _>(rays, mask, &mut AcceptAll)
     }
 
+    #[track_caller]
     fn occluded_packet_with<
         L: Lanes,
         KT: Kernel<L, Prim = T>,
@@ -759,9 +806,10 @@ impl<T: octoray_core::prim::Primitive, S: octoray_core::prim::Primitive> Trace<T
     >(
         &self,
         rays: &RayLanes<L>,
-        mask: u32,
+        mask: impl RayMasks,
         filter: &mut F,
     ) -> L::Mask {
+        check_masks("occluded_packet", mask, L::LANES);
         scene_packet::<L, KT, KS, F, true>(self, rays, mask, filter, 0).mask
     }
 
@@ -769,16 +817,20 @@ impl<T: octoray_core::prim::Primitive, S: octoray_core::prim::Primitive> Trace<T
     fn closest_with<L: Lanes, KT: Kernel<L, Prim = T>, KS: Kernel<L, Prim = S>, F: HitFilter>(
         &self,
         rays: &[Ray],
-        mask: u32,
+        mask: impl RayMasks,
         out: &mut [Option<Hit>],
         filter: &mut F,
     ) {
+        check_masks("closest", mask, rays.len());
         closest_slice::<L, F>(
             rays,
             out,
             filter,
             |r, f, base| scene_packet::<L, KT, KS, F, false>(self, r, mask, f, base),
-            |r, f, id| scene_single::<L, KT, KS, F, false>(self, r, mask, f, id).1,
+            |r, f, id| {
+                let m = mask.at(id as usize);
+                scene_single::<L, KT, KS, F, false>(self, r, m, f, id).1
+            },
         );
     }
 
@@ -786,16 +838,17 @@ impl<T: octoray_core::prim::Primitive, S: octoray_core::prim::Primitive> Trace<T
     fn occluded_with<L: Lanes, KT: Kernel<L, Prim = T>, KS: Kernel<L, Prim = S>, F: HitFilter>(
         &self,
         rays: &[Ray],
-        mask: u32,
+        mask: impl RayMasks,
         out: &mut [bool],
         filter: &mut F,
     ) {
+        check_masks("occluded", mask, rays.len());
         occluded_slice::<L, F>(
             rays,
             out,
             filter,
             |r, f, base| scene_packet::<L, KT, KS, F, true>(self, r, mask, f, base).mask,
-            |r, f, id| scene_single::<L, KT, KS, F, true>(self, r, mask, f, id).0,
+            |r, f, id| scene_single::<L, KT, KS, F, true>(self, r, mask.at(id as usize), f, id).0,
         );
     }
 }

@@ -51,11 +51,13 @@ use octoray_core::{
 
 mod epilog;
 mod instances;
+mod masks;
 #[doc(hidden)]
 pub mod slab;
 mod walk;
 
 pub use instances::Trace;
+pub use masks::RayMasks;
 #[cfg(feature = "alloc")]
 #[doc(inline)]
 pub use octoray_core::scene::Scene;
