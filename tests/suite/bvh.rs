@@ -504,7 +504,7 @@ fn build_is_deterministic_and_plain_data() {
 #[test]
 fn bad_trees_are_rejected_not_traversed() {
     let tris = [VertexTriangle::new(Vec3::ZERO, Vec3::X, Vec3::Y)];
-    let mut blocks = [[0.0f32; BLOCK]; 9];
+    let mut blocks = [[0.0f32; BLOCK]; VertexTriangle::WORDS];
     VertexTriangle::write_block(&tris, &mut blocks);
     let mut ids = [PAD; BLOCK];
     ids[0] = 0;
@@ -540,7 +540,10 @@ fn bad_trees_are_rejected_not_traversed() {
     );
     assert_eq!(
         R::new(&[n], &blocks, &[], 1).unwrap_err(),
-        BvhError::LengthMismatch { blocks: 9, ids: 0 }
+        BvhError::LengthMismatch {
+            blocks: VertexTriangle::WORDS,
+            ids: 0
+        }
     );
     assert_eq!(
         R::new(&[n], &blocks[..8], &ids, 1).unwrap_err(),
@@ -551,7 +554,10 @@ fn bad_trees_are_rejected_not_traversed() {
     );
     assert_eq!(
         R::new(&[n], &blocks, &ids[..1], 1).unwrap_err(),
-        BvhError::LengthMismatch { blocks: 9, ids: 1 }
+        BvhError::LengthMismatch {
+            blocks: VertexTriangle::WORDS,
+            ids: 1
+        }
     );
     // A chain deeper than MAX_DEPTH.
     let deep: Vec<Bvh8Node> = (0..70u32)

@@ -488,7 +488,7 @@ mod untrusted_trees {
     use octoray::f32x8;
     use octoray::glam::Vec3;
     use octoray::kernels::Watertight;
-    use octoray::prim::{Ray, RayLanes, VertexTriangle};
+    use octoray::prim::{Primitive, Ray, RayLanes, VertexTriangle};
     use octoray::scene::{closest_packet, closest_ray, occluded_ray};
     use octoray_testkit::trees::{
         chain, shared_chain, take_leaf_tests, triangles, Counting, Slices,
@@ -604,7 +604,7 @@ mod untrusted_trees {
         // A block no leaf holds.
         let mut t = ok.clone();
         t.ids.extend([PAD; 8]);
-        t.blocks.extend(vec![[0.0; 8]; 9]);
+        t.blocks.extend(vec![[0.0; 8]; VertexTriangle::WORDS]);
         assert_eq!(
             validate(&t).unwrap_err(),
             BvhError::UnusedBlocks { slot: ok.ids.len() }

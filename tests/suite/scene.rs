@@ -867,8 +867,8 @@ fn scenes_stored_as_words_read_back_and_bad_words_are_refused() {
             SceneRef::<PackedTriangle, PackedSphere>::from_words(&words),
             Err(SceneError::BadWords(_))
         ));
-        // The header: the magic, the layouts and the 14 section lengths.
-        for i in 0..17 {
+        // The header: the magic, the layouts' sizes and tags and the 14 section lengths.
+        for i in 0..19 {
             for v in [words[i].wrapping_add(1), words[i].wrapping_sub(1), u32::MAX] {
                 let mut bad = words.clone();
                 bad[i] = v;

@@ -114,6 +114,10 @@ pub trait Primitive: Copy + bytemuck::Pod {
     type Lanes<L: Lanes>: Copy;
     /// `f32` words per primitive (the layout is `WORDS` plain `f32`s).
     const WORDS: usize = core::mem::size_of::<Self>() / 4;
+    /// Four bytes naming the layout in stored scenes ([`crate::scene::SceneRef::to_words`]), so
+    /// that words stored for one layout are refused as another of the same size; `0` (the
+    /// default) for an unnamed layout, which stored scenes then tell apart by size alone.
+    const TAG: u32 = 0;
     /// The largest leaf the BVH builder makes of this layout (1 to [`BLOCK`]; one block's worth
     /// for primitives, one for a scene's instances, whose leaves each enter a tree).
     const LEAF: usize = BLOCK;
@@ -243,7 +247,7 @@ impl Words for BlockLane<'_> {
 }
 
 /// The words of `words` with the axes of every point permuted: word `3j + i` is the source's
-/// word `3j + axes[i]`. For layouts made of points (the three vertices of a
+/// word `3j + axes[i]`. For layouts made of points and vectors (the vertices and normal of a
 /// [`VertexTriangle`]): a kernel that works in a ray-dependent axis order (the watertight shear)
 /// reads its points already in that order, when every lane shares it, at no cost (the loads'
 /// addresses change, not their number).

@@ -78,6 +78,7 @@ pub struct SphereLanes<L> {
 
 impl Primitive for PackedSphere {
     type Lanes<L: Lanes> = SphereLanes<L>;
+    const TAG: u32 = u32::from_le_bytes(*b"PSph");
     #[inline(always)]
     fn from_words<L: Lanes, W: Words>(w: &W) -> SphereLanes<L> {
         SphereLanes {

@@ -1,5 +1,5 @@
-//! Triangle layouts, named for what they store: [`VertexTriangle`] (the three vertices: the
-//! triangle as given, what the watertight kernel and the textbook read) and [`PackedTriangle`]
+//! Triangle layouts, named for what they store: [`VertexTriangle`] (the three vertices as given
+//! and the unit normal: what the watertight kernel and the textbook read) and [`PackedTriangle`]
 //! (`v0` and two edges: what Möller-Trumbore reads), and their lanes.
 
 use super::{down, up, Aabb, Primitive, Words};
@@ -46,8 +46,16 @@ impl PackedTriangle {
     }
 }
 
-/// A triangle as its three vertices (36 bytes, `bytemuck`-castable): what the watertight kernel
-/// reads, because watertightness needs the shared vertices themselves, not rounded edges.
+/// A triangle as its three vertices and its unit normal (12 floats, 48 bytes,
+/// `bytemuck`-castable): what the watertight kernel reads, because watertightness needs the
+/// shared vertices themselves, not rounded edges; the normal places its hit on the plane.
+///
+/// `n` is derived: [`VertexTriangle::new`] forms `(v1 − v0) × (v2 − v0)` from the vertices in
+/// f64 (the differences exact), normalises it and rounds each component once to f32, so it is
+/// within about an ulp of the exact unit normal however thin the triangle (an f32 cross of
+/// rounded edges of a needle is off by the needle's aspect ratio). Zero for a degenerate
+/// triangle. A normal that does not match the vertices (a hand-built or stored value) changes
+/// only where on the ray a hit is placed, never whether the watertight tier reports it.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct VertexTriangle {
@@ -57,21 +65,41 @@ pub struct VertexTriangle {
     pub v1: [f32; 3],
     /// Third vertex.
     pub v2: [f32; 3],
+    /// The unit normal `(v1 − v0) × (v2 − v0) / |…|`, formed in f64 and rounded to f32.
+    pub n: [f32; 3],
 }
 
 impl VertexTriangle {
-    /// Stores three vertices.
+    /// Stores three vertices and their normal.
     pub fn new(v0: Vec3, v1: Vec3, v2: Vec3) -> Self {
+        let (v0, v1, v2) = (v0.to_array(), v1.to_array(), v2.to_array());
         Self {
-            v0: v0.to_array(),
-            v1: v1.to_array(),
-            v2: v2.to_array(),
+            v0,
+            v1,
+            v2,
+            n: unit_normal(v0, v1, v2),
         }
     }
 
     /// The three vertices as vectors.
     pub fn vertices(&self) -> [Vec3; 3] {
         [self.v0, self.v1, self.v2].map(Vec3::from)
+    }
+}
+
+/// `(v1 − v0) × (v2 − v0)` normalised, in f64 from the f32 vertices (each difference exact
+/// unless the coordinates' exponents differ by more than 29, the products and sums within a few
+/// units of 2⁻⁵³: no f32 vertices over- or underflow them), rounded once to f32; zero when the
+/// cross product is zero or a vertex is not finite.
+fn unit_normal(v0: [f32; 3], v1: [f32; 3], v2: [f32; 3]) -> [f32; 3] {
+    let w = |v: [f32; 3]| V3::<f64>::new(v[0].into(), v[1].into(), v[2].into());
+    let (p0, p1, p2) = (w(v0), w(v1), w(v2));
+    let n = (p1 - p0).cross(p2 - p0);
+    let len = libm::sqrt(n.dot(n));
+    if len > 0.0 && len.is_finite() {
+        [n.x, n.y, n.z].map(|x| (x / len) as f32)
+    } else {
+        [0.0; 3]
     }
 }
 
@@ -111,6 +139,7 @@ fn normal_lanes<L: Lanes>(stored: V3<L>, e1: V3<L>, e2: V3<L>) -> V3<L> {
 
 impl Primitive for PackedTriangle {
     type Lanes<L: Lanes> = EdgeLanes<L>;
+    const TAG: u32 = u32::from_le_bytes(*b"PTri");
     #[inline(always)]
     fn from_words<L: Lanes, W: Words>(w: &W) -> EdgeLanes<L> {
         let (e1, e2) = (w.word3(3), w.word3(6));
@@ -141,7 +170,7 @@ impl Primitive for PackedTriangle {
     }
 }
 
-/// [`VertexTriangle`] as lanes: the three vertices.
+/// [`VertexTriangle`] as lanes: the three vertices and the normal.
 #[derive(Clone, Copy, Debug)]
 pub struct VertexLanes<L> {
     /// First vertex.
@@ -150,16 +179,21 @@ pub struct VertexLanes<L> {
     pub v1: V3<L>,
     /// Third vertex.
     pub v2: V3<L>,
+    /// The stored unit normal (the f32 watertight tier places its hits with it; the f64 tier's
+    /// blend of depths is plane-accurate without it).
+    pub n: V3<L>,
 }
 
 impl Primitive for VertexTriangle {
     type Lanes<L: Lanes> = VertexLanes<L>;
+    const TAG: u32 = u32::from_le_bytes(*b"VTri");
     #[inline(always)]
     fn from_words<L: Lanes, W: Words>(w: &W) -> VertexLanes<L> {
         VertexLanes {
             v0: w.word3(0),
             v1: w.word3(3),
             v2: w.word3(6),
+            n: w.word3(9),
         }
     }
     fn bounds(&self) -> Option<Aabb> {

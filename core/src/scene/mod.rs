@@ -183,6 +183,7 @@ pub struct InstanceBox {
 
 impl Primitive for InstanceBox {
     type Lanes<L: Lanes> = ();
+    const TAG: u32 = u32::from_le_bytes(*b"IBox");
     // One instance per leaf: the node test is then each instance's own box test.
     const LEAF: usize = 1;
     #[inline(always)]

@@ -4,15 +4,15 @@ use super::{Geometry, Instance, Member, SceneError, SceneParts, SceneRef, SceneT
 use crate::bvh::Bvh8Node;
 use crate::prim::{Primitive, BLOCK};
 
-/// The first word ("o8s2").
-const MAGIC: u32 = u32::from_le_bytes(*b"o8s2");
+/// The first word ("o8s3").
+const MAGIC: u32 = u32::from_le_bytes(*b"o8s3");
 /// Sections, in order: the triangle trees' nodes, blocks, ids; the sphere trees' nodes,
 /// blocks, ids; geometries, trees, members, instances; the top tree's nodes, blocks, ids; the
 /// unbounded instances.
 const SECTIONS: usize = 14;
-/// Words before the sections: the magic, the two layouts' words per primitive, one element
-/// count per section.
-const HEADER: usize = 3 + SECTIONS;
+/// Words before the sections: the magic, the two layouts' words per primitive and their tags
+/// ([`Primitive::TAG`]), one element count per section.
+const HEADER: usize = 5 + SECTIONS;
 
 /// Words per element of each section.
 const fn element_words() -> [usize; SECTIONS] {
@@ -41,7 +41,8 @@ fn cast<T: bytemuck::Pod>(s: &[u32]) -> Result<&[T], SceneError> {
 }
 
 impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
-    /// The scene as words: a header (a magic word, `T::WORDS`, `S::WORDS`, each slice's length),
+    /// The scene as words: a header (a magic word, `T::WORDS`, `S::WORDS`, `T::TAG`, `S::TAG`,
+    /// each slice's length),
     /// then every slice of [`SceneRef::parts`] in turn. Write them little-endian to store the
     /// scene; [`SceneRef::from_words`] reads them back.
     #[cfg(feature = "alloc")]
@@ -66,7 +67,7 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
         ];
         let total = HEADER + sections.iter().map(|s| w(s)).sum::<usize>();
         let mut out = alloc::vec::Vec::with_capacity(total);
-        out.extend([MAGIC, T::WORDS as u32, S::WORDS as u32]);
+        out.extend([MAGIC, T::WORDS as u32, S::WORDS as u32, T::TAG, S::TAG]);
         for (s, e) in sections.iter().zip(element_words()) {
             out.push((s.len() / e) as u32);
         }
@@ -89,13 +90,13 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
         if header[0] != MAGIC {
             return Err(SceneError::BadWords("not a stored octoray scene"));
         }
-        if header[1] as usize != T::WORDS || header[2] as usize != S::WORDS {
+        if header[1..5] != [T::WORDS as u32, S::WORDS as u32, T::TAG, S::TAG] {
             return Err(SceneError::BadWords("stored for other primitive layouts"));
         }
         let mut at = HEADER;
         let mut cut: [&[u32]; SECTIONS] = [&[]; SECTIONS];
         for (i, e) in element_words().into_iter().enumerate() {
-            let end = (header[3 + i] as usize)
+            let end = (header[5 + i] as usize)
                 .checked_mul(e)
                 .and_then(|n| at.checked_add(n))
                 .filter(|&end| end <= words.len())

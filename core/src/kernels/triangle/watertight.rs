@@ -10,31 +10,45 @@
 //! - Bit-identical across `f32` and `f32x4/x8/x16` and across builds (proptested), like the
 //!   standard tier.
 //! - **Range:** a hit is reported iff the edge test passes, the *exact* `t` is `≥ t_min`, and
-//!   the reported `t` is `≤ t_max` (the rounded `t`, or the exact one on the lanes that report
+//!   the reported `t` is `≤ t_max` (the plane-distance `t` below, or the exact one on the lanes that report
 //!   it, below). The `t_min` side is certified without a division (the sign of `N − t_min·D`
 //!   against its error bound, or every vertex's depth against `t_min`, which keeps small
 //!   distant triangles) and, on the lanes neither certificate decides, decided with
 //!   exact arithmetic ([`crate::kernels::triangle::exact::ExactPlane`], lane by lane, rare): a
 //!   hit just in front of `t_min` is never lost, one just behind is never reported, for every
 //!   finite input (oracle-tested; the thin-triangle reproducer is in `tests/suite/hostile.rs`).
-//!   The `t_max` side compares the rounded `t`, as the standard tier does and as closest-hit
+//!   The `t_max` side compares the reported `t`, as the standard tier does and as closest-hit
 //!   queries order hits, so a hit reported at `t` stays a hit for every `t_max` a little above
 //!   it ([`crate::kernels::Kernel::EXACT_T_MAX`]); the exact tier ([`crate::kernels::Exact`]) decides
 //!   both sides exactly.
-//! - **t error bound:** (the blend of the vertices' depths, weighed by the edge functions; the
-//!   exact tier reports the plane distance in f64 instead, within an ulp) the same form as the
-//!   standard tier,
-//!   `|t − t_exact| ≤ 8·ε·max(|t|, reach)/(|cos θ|·sin α)`; measured at most 2.7 (p50 0 ulp, p99 11 ulp on
-//!   random cases). Hits have finite `t ∈ [t_min, t_max]` (the rounded `t` is clamped into the
-//!   range the exact one was found in). Where the kernel's products leave `[2⁻¹⁰⁰, 2¹⁰⁰]`, or
-//!   the determinant is within its own error bound (rays within ~1e-6 rad of the plane), `t` is
-//!   the exact `t` rounded instead, and `t ≤ t_max` is decided on it exactly.
+//! - **t error bound:** `t` is the plane distance `((v0 − o)·n)/(d·n)` from the stored unit
+//!   normal ([`VertexTriangle::n`], formed in f64), in f32: with `ε = 2⁻²⁴`, `n` within an ulp
+//!   of the exact normal and the plane through `v0` off by at most `ε·|p − v0|·|n|` at the
+//!   hit point `p`, `|t − t_exact| ≤ 8·ε·max(|t|, reach)/|cos θ|` to first order (`reach =
+//!   (|o − v0| + |v1 − v0| + |v2 − v0|)/|d|`, θ the angle between the ray and the normal):
+//!   the standard tier's form without its `1/sin α`, so thin triangles cost nothing. The hit
+//!   point `o + t·d` lies within `ε·(4|v0 − o| + 4|t·d| + |p − v0|)` of the plane: on thin
+//!   triangles and short rays along long trim p99 ≤ 1 f32 step at the point (the accuracy
+//!   report's off-plane table). Measured at most 2.4·ε·max(|t|, reach)/|cos θ| (p50 0 ulp,
+//!   p99 27 ulp on random cases: the quotient's numerator cancels where the hit lies far from
+//!   `v0`, which the blend of depths did not; the point stays on the plane). Where `d·n`
+//!   disagrees in sign with the edge test's determinant (rays within about `ε` rad of the
+//!   plane) or the quotient is not finite, `t` is the blend of the vertices' depths weighed by
+//!   the edge functions, with the standard tier's bound `8·ε·max(|t|, reach)/(|cos θ|·sin α)`
+//!   (α the smallest angle); at f64 widths always that blend (its error, `∝ 2⁻⁵³/sin α`, is
+//!   below f32's resolution). Hits have finite `t ∈ [t_min, t_max]` (the reported `t` is
+//!   clamped up to `t_min` where the exact `t` was certified above it). Where the kernel's
+//!   products leave `[2⁻¹⁰⁰, 2¹⁰⁰]`, or the determinant is within its own error bound (rays
+//!   within ~1e-6 rad of the plane), `t` is the exact `t` rounded instead, and `t ≤ t_max` is
+//!   decided on it exactly.
 //! - Zero escapes over 10⁵ rays aimed at the vertices and edges of closed jittered meshes centred
 //!   at 0…1e6 (`tests/suite/watertight.rs`); in the trade report 0.000 % (report: `watertight, 8
 //!   lanes`, crack rate) escape where the standard tier lets 1.540 % (report: `standard, 8
 //!   lanes`, crack rate) through.
-//! - Reads [`VertexTriangle`] (the three vertices): watertightness needs the shared vertices
-//!   themselves, not rounded edges.
+//! - Reads [`VertexTriangle`] (the three vertices and the unit normal): watertightness needs the
+//!   shared vertices themselves, not rounded edges; the edge test reads only the vertices, the
+//!   normal only places the hit (a normal that does not match the vertices moves `t`, never the
+//!   decision).
 //! - The products are of origin-relative coordinates with z normalised by the shear, so they
 //!   overflow only when |v − o|² nears f32::MAX (~1e19), far later than the standard tier's
 //!   ~7e12; overflow is a miss, never an inf/NaN hit. Use the f64 instantiation beyond that.
@@ -80,6 +94,8 @@ pub struct ShearedRay<L: Lanes> {
     safe: L::Mask,
     /// The origin in each lane's axis order: `(o[kx], o[ky], o[kz])`.
     origin: V3<L>,
+    /// The direction in each lane's axis order (for the plane distance).
+    dir: V3<L>,
     /// `[kx, ky, kz]` when every lane shares them (single rays, coherent packets): the kernel
     /// then reads the vertices in that order ([`Permuted`]) instead of blending per lane.
     shared_axes: Option<[usize; 3]>,
@@ -156,6 +172,7 @@ impl<L: Lanes> ShearedRay<L> {
                 ky.pick(ray.origin),
                 kz.pick(ray.origin),
             ),
+            dir: V3::new(dx, dy, dz),
             shared_axes,
         }
     }
@@ -383,21 +400,41 @@ fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
         & max_z.ge(L::splat(SAFE_MIN))
         & me.ge(L::splat(SAFE_MIN))
         & me.le(L::splat(SAFE_MAX));
-    // Watertight lanes whose t_max the exact stage decides: where the rounded test meant
-    // nothing (N or the bound overflowed), and lanes outside the safe window.
+    // Watertight lanes whose t_max the exact stage decides: where the reported t is not finite,
+    // and lanes outside the safe window.
     let mut max_untested = ray.active & !ray.active;
+    // The watertight tier's reported t (the edge test has decided; this places the hit). At f32
+    // widths the plane distance `((v0 − o)·n)/(d·n)` from the stored unit normal (formed in f64
+    // when the triangle was stored): its error does not grow as the triangle thins, so the hit
+    // point lies on the plane to a few f32 steps (doc above). The blend N/D of the depths where
+    // `d·n` is not of the sign the edge test's `D` implies (a ray all but in the plane: a front
+    // face has D > 0 and d·n < 0) or the quotient is not finite, and at f64 widths, where the
+    // blend's error (∝ 2⁻⁵³/sin α) is below f32's resolution for any triangle f32 can hold.
+    let mut t_report = zero;
     if !EXACT {
-        // The watertight tier compares the rounded t with t_max (as the standard tier does, and as
-        // closest-hit queries order hits): far hits leave here, before the range certificates.
-        // Lanes outside the safe window report the exact t, so their t_max is decided exactly
-        // on that same t instead: they skip this test. So a hit reported at `t` stays a hit for
-        // every `t_max` just above `t`, which the queries' and the BVH's cull by the running
-        // best relies on. (Deciding those lanes here, on their rounded t, had dropped 11 % of
-        // grazing hits once t_max was lowered to their own reported t.)
-        let at_max = t_max * abs_det;
-        // (t_max = +inf makes the bound +inf legitimately: every finite N passes, as it should.)
-        max_untested = !num.is_finite() | (!at_max.is_finite() & t_max.is_finite());
-        mask = mask & (num.le(at_max) | max_untested | !safe);
+        t_report = if L::Scalar::UNIT_ROUNDOFF < f32::EPSILON as f64 / 2.0 {
+            t_num / det
+        } else {
+            let n = p(tri.n);
+            let d = sh.dir;
+            let an = a.x * n.x + a.y * n.y + a.z * n.z;
+            let dn = d.x * n.x + d.y * n.y + d.z * n.z;
+            let tp = an / dn;
+            let ok = ((dn.lt(zero) & det.gt(zero)) | (dn.gt(zero) & det.lt(zero))) & tp.is_finite();
+            if (mask & !ok).any() {
+                L::select(ok, tp, t_num / det)
+            } else {
+                tp
+            }
+        };
+        // The watertight tier compares its reported t with t_max (as the standard tier does, and
+        // as closest-hit queries order hits): far hits leave here, before the range
+        // certificates. Lanes outside the safe window report the exact t, so their t_max is
+        // decided exactly on that same t instead: they skip this test. So a hit reported at `t`
+        // stays a hit for every `t_max` at or above `t`, which the queries' and the BVH's cull
+        // by the running best relies on.
+        max_untested = !t_report.is_finite();
+        mask = mask & (t_report.le(t_max) | max_untested | !safe);
         if mask.none() {
             return (LanesHit::miss(mask), exact_lanes);
         }
@@ -513,26 +550,24 @@ fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
         }
     }
     // The reported t (the edge test and the range have decided; this places the hit). The
-    // watertight tier: the blend N/D of the depths weighed by the edge functions (its t_max test
-    // above compared it), whose error grows as the triangle thins. The exact tier: the plane
-    // distance `((v0 − o)·n)/(d·n)`, lane by lane in f64 from the f32 inputs (the differences
-    // exact, `n = (v1 − v0) × (v2 − v0)` and both dot products within a few units of 2⁻⁵³),
-    // rounded once: within about an ulp of the exact t unless `d·n` cancels to ~2⁻²⁹ of its
-    // terms, whatever the triangle's shape (the blend stands only where that quotient is not
-    // finite). Per lane, so every width gives the same bits. The exact stage's own t on its
-    // lanes. `+ 0` maps −0 to +0 (and nothing else): one canonical zero for every query.
+    // watertight tier: `t_report` above. The exact tier: the plane distance
+    // `((v0 − o)·n)/(d·n)`, lane by lane in f64 from the f32 inputs (the differences exact,
+    // `n = (v1 − v0) × (v2 − v0)` and both dot products within a few units of 2⁻⁵³), rounded
+    // once: within about an ulp of the exact t unless `d·n` cancels to ~2⁻²⁹ of its terms,
+    // whatever the triangle's shape (the blend stands only where that quotient is not finite).
+    // Per lane, so every width gives the same bits. The exact stage's own t on its lanes.
+    // `+ 0` maps −0 to +0 (and nothing else): one canonical zero for every query.
     let (exact_bits, exact_t) = (exact_t, L::mask_from_bits(exact_t));
-    let blend = t_num / det;
     let mut t = if EXACT {
         plane_t(
             mask & !exact_t,
             sh.origin,
             (v0, v1, v2),
-            sh.permute(ray.dir),
-            blend,
+            sh.dir,
+            t_num / det,
         )
     } else {
-        blend
+        t_report
     } + zero;
     if exact_bits != 0 {
         t = L::select(
