@@ -6,6 +6,7 @@
 //! - [`BvhScene`]: bvh 0.13 (`Bvh::build`, `traverse` for the candidates, then
 //!   `Ray::intersects_triangle`, which culls back faces).
 //! - [`crate::embree`]: Embree 3 through its C API, loaded at run time.
+//! - [`TinyBvhScene`]: tinybvh 1.6.8's `BVH8_CPU` through `tinybvh-rs` (the `tinybvh` feature).
 
 use glam::Vec3;
 use octoray::prim::Ray;
@@ -154,5 +155,112 @@ impl BvhScene {
             hits += u64::from(best < f32::INFINITY);
         }
         hits
+    }
+}
+
+/// tinybvh 1.6.8's `BVH8_CPU` (through `tinybvh-rs`): its fastest CPU single-ray layout (AVX2
+/// leaves of 4 triangles, Möller-Trumbore with an approximate `1/det`; not watertight), built
+/// from its binned SAH build (`BVH::Build`) or its spatial-split build (`BVH::BuildHQ`), leaves
+/// split to 4 and converted through `MBVH8`. Closest hit only: the wrapper has no occlusion
+/// query. Only with the benches' `tinybvh` feature (a C++ compiler) on an AVX2 build.
+pub struct TinyBvhScene {
+    #[cfg(all(feature = "tinybvh", target_feature = "avx2"))]
+    bvh: tinybvh_rs::bvh8_cpu::BVH,
+}
+
+impl TinyBvhScene {
+    /// Builds (`hq`: with spatial splits) on one thread; returns the scene and the wall time of
+    /// the whole build (the binary tree, the leaf split and both conversions), or why the peer
+    /// is skipped.
+    #[cfg(all(feature = "tinybvh", target_feature = "avx2"))]
+    pub fn build(tris: &[[Vec3; 3]], hq: bool) -> Result<(Self, Duration), String> {
+        use tinybvh_rs::{bvh, bvh8_cpu, mbvh};
+        let verts: Vec<[f32; 4]> = tris
+            .iter()
+            .flat_map(|t| t.map(|v| [v.x, v.y, v.z, 0.0]))
+            .collect();
+        let start = Instant::now();
+        let positions: tinybvh_rs::Positions<'_> = verts.as_slice().into();
+        let mut binary = if hq {
+            bvh::BVH::new_hq(positions)
+        } else {
+            bvh::BVH::new(positions)
+        }
+        .map_err(|e| e.to_string())?;
+        binary.split_leaves(4);
+        let wide = mbvh::BVH::new(&binary);
+        let bvh = bvh8_cpu::BVH::new(&wide).map_err(|e| e.to_string())?;
+        Ok((Self { bvh }, start.elapsed()))
+    }
+
+    /// Without the `tinybvh` feature or AVX2: why the rows are skipped.
+    #[cfg(not(all(feature = "tinybvh", target_feature = "avx2")))]
+    pub fn build(_: &[[Vec3; 3]], _: bool) -> Result<(Self, Duration), String> {
+        Err(if cfg!(feature = "tinybvh") {
+            "tinybvh's BVH8_CPU walk needs an AVX2 build (RUSTFLAGS=\"-C target-cpu=native\")"
+                .into()
+        } else {
+            "build the benches with `--features tinybvh` (needs a C++20 compiler)".into()
+        })
+    }
+
+    /// Closest hit of every ray (a positive `t_min` is applied by moving the origin: tinybvh's
+    /// rays start at 0); returns the number of hits.
+    ///
+    /// The wrapper's `Ray` is 64 bytes where tinybvh 1.6.8's C++ `Ray` is 128 (its hit record
+    /// carries 64 bytes of user data), so `Ray::new`, which returns the C++ object by value,
+    /// writes past the Rust one (a segmentation fault on Sponza). The first 64 bytes agree field
+    /// for field (the `padding_*` words are the C++ `mask`, `instIdx` and `hit.inst`), so the ray
+    /// is built here field by field, as the C++ constructor does without normalising the
+    /// direction (`t` then stays in the caller's units), inside a 128-byte block that holds
+    /// what the C++ side may touch.
+    #[cfg(all(feature = "tinybvh", target_feature = "avx2"))]
+    pub fn closest(&self, rays: &[Ray]) -> u64 {
+        use tinybvh_rs::Intersector;
+        /// Room for the C++ `Ray` (128 bytes, 64-aligned) around the wrapper's first 64.
+        #[repr(C, align(64))]
+        struct Whole {
+            ray: tinybvh_rs::Ray,
+            rest: [u32; 16],
+        }
+        // tinybvh_safercp: 1/x, or ±1e30 for |x| ≤ 1e-12.
+        let rcp = |x: f32| {
+            if x.abs() > 1e-12 {
+                1.0 / x
+            } else if x >= 0.0 {
+                tinybvh_rs::INFINITE
+            } else {
+                -tinybvh_rs::INFINITE
+            }
+        };
+        let mut hits = 0;
+        for r in rays {
+            let o = r.origin + r.dir * r.t_min;
+            let far = (r.t_max - r.t_min).min(tinybvh_rs::INFINITE);
+            let mut w = Whole {
+                ray: tinybvh_rs::Ray {
+                    origin: o.into(),
+                    padding_0: 0xffff,
+                    dir: r.dir.into(),
+                    padding_1: 0,
+                    r_d: r.dir.to_array().map(rcp),
+                    padding_2: 0,
+                    hit: tinybvh_rs::Intersection {
+                        t: far,
+                        ..Default::default()
+                    },
+                },
+                rest: [0; 16],
+            };
+            self.bvh.intersect(&mut w.ray);
+            hits += u64::from(w.ray.hit.t < far);
+        }
+        hits
+    }
+
+    /// Never called: [`TinyBvhScene::build`] fails without the peer.
+    #[cfg(not(all(feature = "tinybvh", target_feature = "avx2")))]
+    pub fn closest(&self, _: &[Ray]) -> u64 {
+        0
     }
 }

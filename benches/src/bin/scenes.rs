@@ -5,7 +5,8 @@
 //! Run: `RUSTFLAGS="-C target-cpu=native" cargo run --release -p octoray-benches --bin scenes`
 //! (`-- --quick` for one run per row instead of the best of five; `-- --only TEXT` for the rows
 //! whose description contains TEXT, `-- --sponza` for Sponza alone, `-- --no-scene-model`
-//! without the scene-model and instancing sections).
+//! without the scene-model and instancing sections). tinybvh's rows need `--features tinybvh`
+//! (a C++20 compiler builds it); without it they say "skipped".
 
 use octoray::bvh::{Bvh8, Bvh8Ref};
 use octoray::kernels::{MollerTrumbore, Watertight};
@@ -17,7 +18,7 @@ use octoray_benches::instancing::{
     alpha, field, flatten, instanced, restart_closest, scene_of, scene_packets_closest,
     scene_singles_any, scene_singles_closest, wave, Layout,
 };
-use octoray_benches::scene_peers::{BvhScene, ObvhsScene};
+use octoray_benches::scene_peers::{BvhScene, ObvhsScene, TinyBvhScene};
 use octoray_benches::scenes::{
     batch_closest, jittered_sphere, packets_any, packets_closest, singles_any, singles_closest,
     sponza, SceneSet,
@@ -289,6 +290,38 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
         ),
         ("bvh 0.13".to_string(), bv_build.as_secs_f64()),
     ];
+    for hq in [true, false] {
+        let name = if hq {
+            "tinybvh 1.6.8 (BVH8_CPU, BuildHQ: spatial splits)"
+        } else {
+            "tinybvh 1.6.8 (BVH8_CPU, Build: binned)"
+        };
+        match TinyBvhScene::build(&s.tris, hq) {
+            Ok((tb, built)) => {
+                builds.push((name.to_string(), built.as_secs_f64()));
+                row(
+                    "primary",
+                    "closest",
+                    "single ray",
+                    name,
+                    p8.len(),
+                    &mut || tb.closest(&p8),
+                );
+                row(
+                    "diffuse bounce",
+                    "closest",
+                    "single ray",
+                    name,
+                    bounce.len(),
+                    &mut || tb.closest(&bounce),
+                );
+            }
+            Err(e) => {
+                writeln!(md_peers, "tinybvh rows skipped: {e}.").unwrap();
+                break;
+            }
+        }
+    }
     for robust in [true, false] {
         let mode = if robust { "robust" } else { "fast" };
         match EmbreeScene::build(&s.tris, robust) {
@@ -406,6 +439,21 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
             "diffuse bounce ≥ 1.2× Embree robust rtcIntersect1",
             "diffuse bounce|closest|single ray|watertight",
             "diffuse bounce|closest|single ray (rtcIntersect1)|Embree 3 robust",
+        ),
+        (
+            "primary single ray ≥ tinybvh BVH8_CPU (BuildHQ)",
+            "primary|closest|single ray (leaves ×8)|watertight",
+            "primary|closest|single ray|tinybvh 1.6.8 (BVH8_CPU, BuildHQ: spatial splits)",
+        ),
+        (
+            "primary single ray, standard tier ≥ 1.2× tinybvh BVH8_CPU (BuildHQ)",
+            "primary|closest|single ray|standard",
+            "primary|closest|single ray|tinybvh 1.6.8 (BVH8_CPU, BuildHQ: spatial splits)",
+        ),
+        (
+            "diffuse bounce ≥ tinybvh BVH8_CPU (BuildHQ)",
+            "diffuse bounce|closest|single ray|watertight",
+            "diffuse bounce|closest|single ray|tinybvh 1.6.8 (BVH8_CPU, BuildHQ: spatial splits)",
         ),
         (
             "primary single ray ≥ 2× obvhs",
