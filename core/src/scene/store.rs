@@ -42,8 +42,7 @@ fn cast<T: bytemuck::Pod>(s: &[u32]) -> Result<&[T], SceneError> {
 
 impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
     /// The scene as words: a header (a magic word, `T::WORDS`, `S::WORDS`, `T::TAG`, `S::TAG`,
-    /// each slice's length),
-    /// then every slice of [`SceneRef::parts`] in turn. Write them little-endian to store the
+    /// each slice's length), then every slice of [`SceneRef::parts`] in turn. Write them little-endian to store the
     /// scene; [`SceneRef::from_words`] reads them back.
     #[cfg(feature = "alloc")]
     pub fn to_words(&self) -> alloc::vec::Vec<u32> {
