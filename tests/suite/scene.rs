@@ -6,6 +6,7 @@
 #![cfg(all(feature = "triangle", feature = "sphere", feature = "alloc"))]
 use octoray_testkit as testkit;
 
+use octoray::bvh::BuildOptions;
 use octoray::glam::{Affine3A, Quat, Vec3};
 use octoray::hit::{Candidate, Hit};
 use octoray::kernels::{Kernel, MollerTrumbore, StableSphere, Watertight};
@@ -56,7 +57,13 @@ struct World<T> {
 
 impl<T: Primitive + Sync> World<T> {
     fn scene(&self) -> Scene<T, PackedSphere> {
+        self.scene_with(BuildOptions::BINNED)
+    }
+
+    /// The scene, its geometries' trees built as `options` say.
+    fn scene_with(&self, options: BuildOptions) -> Scene<T, PackedSphere> {
         let mut s = Scene::new();
+        s.set_build_options(options);
         for (g, mask) in &self.geoms {
             let id = match g {
                 Geom::Tris(p) => s.add_triangles(p).unwrap(),
@@ -540,7 +547,12 @@ fn pack_packed(t: &[[Vec3; 3]]) -> Vec<PackedTriangle> {
 
 fn scene_case(seed: u64) -> usize {
     let (w, rays) = world(seed, pack_vertex);
-    let scene = w.scene();
+    // Half the worlds with spatial splits in their geometries' trees.
+    let scene = w.scene_with(if seed % 2 == 1 {
+        BuildOptions::SPATIAL
+    } else {
+        BuildOptions::BINNED
+    });
     let r = scene.as_ref();
     let mut hits = check::<f32x8, f32, Watertight, StableSphere>(&w, r, &rays, &MASKS);
     hits += check::<f32x16, f32, Watertight, StableSphere>(&w, r, &rays, &MASKS[..1]);

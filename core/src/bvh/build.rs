@@ -63,6 +63,40 @@ pub struct Bvh8<P> {
     _prim: core::marker::PhantomData<P>,
 }
 
+/// How a tree is built: the plain binned SAH build, or with spatial splits.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BuildOptions {
+    /// How many extra leaf references spatial splits may add, as a share of the primitives
+    /// (0: no spatial splits; at most 1). Each split leaves what it did not spend to its halves
+    /// in proportion to their items, so the build stays deterministic under any join.
+    pub split_budget: f32,
+}
+
+impl BuildOptions {
+    /// The binned SAH build: fastest to build, every primitive in one leaf.
+    pub const BINNED: Self = Self { split_budget: 0.0 };
+    /// Spatial splits with up to a quarter more leaf references: slower to build, fewer
+    /// primitive tests and node visits where primitives are long or large against their
+    /// neighbours (a primitive may then sit in several leaves).
+    pub const SPATIAL: Self = Self { split_budget: 0.25 };
+
+    /// Extra references for `n` items.
+    fn budget(&self, n: usize) -> usize {
+        let share = if self.split_budget.is_finite() {
+            self.split_budget.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        ((n as f64 * share as f64) as usize).min(MAX_PRIMS.saturating_sub(n))
+    }
+}
+
+impl Default for BuildOptions {
+    fn default() -> Self {
+        Self::BINNED
+    }
+}
+
 /// Figures of a built tree.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct BuildStats {
@@ -70,6 +104,8 @@ pub struct BuildStats {
     pub prims: usize,
     /// Primitives left out (a non-finite coordinate: no kernel can hit them).
     pub skipped: usize,
+    /// Leaf references: `prims`, plus one for each extra leaf a spatial split put a primitive in.
+    pub references: usize,
     /// Nodes.
     pub nodes: usize,
     /// Leaves.
@@ -114,6 +150,8 @@ impl Join for Sequential {
 
 struct BinNode {
     bounds: Aabb,
+    /// The largest magnitude of its items' whole primitives ([`Item::m`]).
+    m: f32,
     /// Inner: children; leaf: `usize::MAX`, with `start..start + count` in `refs`.
     left: usize,
     right: usize,
@@ -146,6 +184,18 @@ impl<P: Primitive> Bvh8<P> {
     /// items; the halves are joined in order). The collapse into 8-wide nodes stays on the
     /// calling thread.
     pub fn try_build_with<J: Join>(prims: &[P], join: &J) -> Result<Self, BvhError> {
+        Self::try_build_options(prims, BuildOptions::BINNED, join)
+    }
+
+    /// [`Bvh8::try_build_with`] as `options` say: [`BuildOptions::SPATIAL`] for a tree with
+    /// spatial splits (slower to build, faster to trace where primitives are long or large
+    /// against their neighbours). The same input, options and primitives give the same tree bit
+    /// for bit, whatever the join.
+    pub fn try_build_options<J: Join>(
+        prims: &[P],
+        options: BuildOptions,
+        join: &J,
+    ) -> Result<Self, BvhError> {
         if prims.len() > MAX_PRIMS {
             return Err(BvhError::TooManyPrims(prims.len()));
         }
@@ -167,20 +217,30 @@ impl<P: Primitive> Bvh8<P> {
                 bx: *b,
                 c: b.center(),
                 local: k as u32,
+                m: b.magnitude(),
             })
             .collect();
+        let level = Level {
+            depth: 0,
+            max_leaf: P::LEAF.clamp(1, BLOCK),
+        };
+        let budget = options.budget(items.len());
         let bin = if items.is_empty() {
             Vec::new()
+        } else if budget == 0 {
+            subtree(&mut items, 0, level, join)
         } else {
-            subtree(
-                &mut items,
-                0,
-                Level {
-                    depth: 0,
-                    max_leaf: P::LEAF.clamp(1, BLOCK),
-                },
-                join,
-            )
+            let spatial = Spatial {
+                prims,
+                refs: &refs,
+                root_area: boxes
+                    .iter()
+                    .fold(Aabb::EMPTY, |a, &b| a.union(b))
+                    .half_area(),
+            };
+            let (bin, placed) = spatial.subtree(core::mem::take(&mut items), budget, level, join);
+            items = placed;
+            bin
         };
 
         // Collapse into 8-wide nodes, parents before children; each leaf's primitives go out in
@@ -192,6 +252,7 @@ impl<P: Primitive> Bvh8<P> {
         let mut stats = BuildStats {
             prims: refs.len(),
             skipped,
+            references: items.len(),
             ..BuildStats::default()
         };
         if !bin.is_empty() {
@@ -227,7 +288,7 @@ impl<P: Primitive> Bvh8<P> {
                 }
                 let mut node = Bvh8Node::EMPTY;
                 for (s, &k) in kids.iter().enumerate() {
-                    let (lo, hi) = widen(bin[k].bounds.lo, bin[k].bounds.hi);
+                    let (lo, hi) = widen(bin[k].bounds, bin[k].m);
                     for a in 0..3 {
                         node.lo[a][s] = lo[a];
                         node.hi[a][s] = hi[a];
@@ -271,7 +332,7 @@ impl<P: Primitive> Bvh8<P> {
             + ids.len() * 4;
         if !refs.is_empty() {
             stats.bytes_per_prim = bytes as f32 / refs.len() as f32;
-            stats.block_fill = refs.len() as f32 / ids.len() as f32;
+            stats.block_fill = stats.references as f32 / ids.len() as f32;
         }
         debug_assert!(stats.depth <= MAX_DEPTH);
         Ok(Self {
@@ -320,9 +381,10 @@ impl<P: Primitive> Bvh8<P> {
     /// length and order), the topology kept, every leaf block rewritten from `prims` and every
     /// box recomputed bottom up. Linear in the tree's size, one scratch box per node and block.
     ///
-    /// Each box is the one the builder would compute for the same topology (the exact union of
-    /// its primitives' bounds, widened by [`super::SLACK`]), so every walk's answer equals brute
-    /// force over `prims`, bit for bit, under the same contract as a built tree; a primitive that
+    /// Each box is the one the binned builder would compute for the same topology (the exact
+    /// union of its primitives' whole bounds, widened by [`super::SLACK`]; a spatial split's
+    /// parts grow back to whole primitives), so every walk's answer equals brute force over
+    /// `prims`, bit for bit, under the same contract as a built tree; a primitive that
     /// became non-finite is never hit (its box is left out, and a box of only such primitives is
     /// never entered). Traversal cost grows as the topology fits the new positions worse.
     ///
@@ -408,7 +470,7 @@ pub(crate) fn refit_parts<P: Primitive + Sync, J: Join>(
             };
             // A box of only non-finite primitives is inverted, as an empty slot's is.
             let (lo, hi) = if bx.is_finite() {
-                widen(bx.lo, bx.hi)
+                widen(bx, 0.0)
             } else {
                 (Aabb::EMPTY.lo, Aabb::EMPTY.hi)
             };
@@ -462,12 +524,15 @@ fn refit_blocks<P: Primitive + Sync, J: Join>(
     }
 }
 
-/// A primitive's box and centre during the build, and its index in `refs`.
+/// A primitive's box and centre during the build, and its index in `refs`. With spatial splits
+/// an item is a reference: the box of the part of its primitive in a node, and `m`, the largest
+/// coordinate magnitude of the whole primitive (what the box slack scales with).
 #[derive(Clone, Copy)]
 struct Item {
     bx: Aabb,
     c: [f32; 3],
     local: u32,
+    m: f32,
 }
 
 /// Below this many items a subtree is built in one task: the join's overhead would outweigh
@@ -485,10 +550,11 @@ fn subtree<J: Join>(items: &mut [Item], base: usize, level: Level, join: &J) -> 
         split(&mut out, items, &mut scratch, base, 0, items.len(), level);
         return out;
     }
-    let (bounds, mid) = decide(items, &mut scratch, level);
+    let (bounds, m, mid) = decide(items, &mut scratch, level);
     drop(scratch);
     out.push(BinNode {
         bounds,
+        m,
         left: usize::MAX,
         right: usize::MAX,
         start: base,
@@ -502,22 +568,27 @@ fn subtree<J: Join>(items: &mut [Item], base: usize, level: Level, join: &J) -> 
         || subtree(l, base, level.down(), join),
         || subtree(r, base + mid, level.down(), join),
     );
-    // Preorder: the left subtree right after the root, then the right one; child indices
-    // shifted by where each subtree lands.
-    let mut append = |part: Vec<BinNode>| {
+    link(&mut out, left, right, 0);
+    out
+}
+
+/// Appends the preorder subtrees `left` and `right` after the root `out[0]` and links them to
+/// it; the right subtree's item ranges move by `right_items`.
+fn link(out: &mut Vec<BinNode>, left: Vec<BinNode>, right: Vec<BinNode>, right_items: usize) {
+    let mut append = |part: Vec<BinNode>, shift: usize| {
         let at = out.len();
         out.extend(part.into_iter().map(|mut n| {
             if n.left != usize::MAX {
                 n.left += at;
                 n.right += at;
             }
+            n.start += shift;
             n
         }));
         at
     };
-    let (l, r) = (append(left), append(right));
+    let (l, r) = (append(left, 0), append(right, right_items));
     (out[0].left, out[0].right) = (l, r);
-    out
 }
 
 /// Builds the binary node for `all[start..end]` and its subtree, one task; returns its index
@@ -531,10 +602,11 @@ fn split(
     end: usize,
     level: Level,
 ) -> usize {
-    let (bounds, mid) = decide(&mut all[start..end], scratch, level);
+    let (bounds, m, mid) = decide(&mut all[start..end], scratch, level);
     let me = out.len();
     out.push(BinNode {
         bounds,
+        m,
         left: usize::MAX,
         right: usize::MAX,
         start: base + start,
@@ -549,66 +621,111 @@ fn split(
     me
 }
 
-/// The box of `all`'s items and where to split them (`Some(k)`: `all[..k]` and `all[k..]`,
-/// after reordering), or `None` for a leaf.
-fn decide(all: &mut [Item], scratch: &mut Vec<Item>, level: Level) -> (Aabb, Option<usize>) {
-    let Level { depth, max_leaf } = level;
-    let n = all.len();
-    let items = &all[..];
-    let bounds = items.iter().fold(Aabb::EMPTY, |b, i| b.union(i.bx));
+/// A node's items as binned by their centres: their box, centres' box, slack magnitude and
+/// best object split.
+struct Binned {
+    bounds: Aabb,
+    m: f32,
+    cb: Aabb,
+    /// Bins per axis.
+    nb: usize,
+    /// (cost, axis, bins on the left).
+    best: Option<(f32, usize, usize)>,
+}
+
+/// Bins `items` by their centres and finds the best object split (none from
+/// [`BALANCED_FROM`] down).
+fn bin_objects(items: &[Item], depth: usize) -> Binned {
+    let n = items.len();
+    let (bounds, m) = items.iter().fold((Aabb::EMPTY, 0.0f32), |(b, m), i| {
+        (b.union(i.bx), m.max(i.m))
+    });
     let cb = items.iter().fold(Aabb::EMPTY, |b, i| b.grow(i.c));
-    if n == 1 {
-        return (bounds, None);
-    }
-    // Best binned split over the three axes.
-    let leaf = leaf_cost(n);
-    let area = bounds.half_area();
     let nb = bins_for(n);
-    let mut best: Option<(f32, usize, usize)> = None; // (cost, axis, bins on the left)
-    if depth < BALANCED_FROM {
-        // Bin all three axes in one pass over the items (the pass is memory-bound).
-        let scale: [f32; 3] = core::array::from_fn(|a| nb as f32 / (cb.hi[a] - cb.lo[a]));
-        let mut bb = [[Aabb::EMPTY; BINS]; 3];
-        let mut cnt = [[0usize; BINS]; 3];
-        for &Item { bx, c, .. } in items {
-            for a in 0..3 {
-                // A flat axis (hi ≤ lo: centres are finite) is skipped below; its bins unused.
-                let b = bin_of(c[a], cb.lo[a], scale[a], nb);
-                bb[a][b] = bb[a][b].union(bx);
-                cnt[a][b] += 1;
-            }
+    let mut best: Option<(f32, usize, usize)> = None;
+    if n == 1 || depth >= BALANCED_FROM {
+        return Binned {
+            bounds,
+            m,
+            cb,
+            nb,
+            best,
+        };
+    }
+    let area = bounds.half_area();
+    // Bin all three axes in one pass over the items (the pass is memory-bound).
+    let scale: [f32; 3] = core::array::from_fn(|a| nb as f32 / (cb.hi[a] - cb.lo[a]));
+    let mut bb = [[Aabb::EMPTY; BINS]; 3];
+    let mut cnt = [[0usize; BINS]; 3];
+    for &Item { bx, c, .. } in items {
+        for a in 0..3 {
+            // A flat axis (hi ≤ lo: centres are finite) is skipped below; its bins unused.
+            let b = bin_of(c[a], cb.lo[a], scale[a], nb);
+            bb[a][b] = bb[a][b].union(bx);
+            cnt[a][b] += 1;
         }
-        for axis in 0..3 {
-            if cb.hi[axis] <= cb.lo[axis] {
+    }
+    for axis in 0..3 {
+        if cb.hi[axis] <= cb.lo[axis] {
+            continue;
+        }
+        let (bb, cnt) = (&bb[axis], &cnt[axis]);
+        // Right-to-left sweep of areas·counts, then left to right.
+        let mut right = [0.0f32; BINS];
+        let (mut acc, mut c) = (Aabb::EMPTY, 0usize);
+        for b in (1..nb).rev() {
+            acc = acc.union(bb[b]);
+            c += cnt[b];
+            right[b] = acc.half_area() * leaf_cost(c);
+        }
+        let (mut acc, mut c) = (Aabb::EMPTY, 0usize);
+        for b in 0..nb - 1 {
+            acc = acc.union(bb[b]);
+            c += cnt[b];
+            if c == 0 || c == n {
                 continue;
             }
-            let (bb, cnt) = (&bb[axis], &cnt[axis]);
-            // Right-to-left sweep of areas·counts, then left to right.
-            let mut right = [0.0f32; BINS];
-            let (mut acc, mut c) = (Aabb::EMPTY, 0usize);
-            for b in (1..nb).rev() {
-                acc = acc.union(bb[b]);
-                c += cnt[b];
-                right[b] = acc.half_area() * leaf_cost(c);
-            }
-            let (mut acc, mut c) = (Aabb::EMPTY, 0usize);
-            for b in 0..nb - 1 {
-                acc = acc.union(bb[b]);
-                c += cnt[b];
-                if c == 0 || c == n {
-                    continue;
-                }
-                let cost = TRAVERSAL_COST
-                    + (acc.half_area() * leaf_cost(c) + right[b + 1]) / area.max(f32::MIN_POSITIVE);
-                if best.is_none_or(|(bc, _, _)| cost < bc) {
-                    best = Some((cost, axis, b + 1));
-                }
+            let cost = TRAVERSAL_COST
+                + (acc.half_area() * leaf_cost(c) + right[b + 1]) / area.max(f32::MIN_POSITIVE);
+            if best.is_none_or(|(bc, _, _)| cost < bc) {
+                best = Some((cost, axis, b + 1));
             }
         }
     }
+    Binned {
+        bounds,
+        m,
+        cb,
+        nb,
+        best,
+    }
+}
 
+/// The box and slack magnitude of `all`'s items and where to split them (`Some(k)`: `all[..k]`
+/// and `all[k..]`, after reordering), or `None` for a leaf.
+fn decide(all: &mut [Item], scratch: &mut Vec<Item>, level: Level) -> (Aabb, f32, Option<usize>) {
+    let binned = bin_objects(all, level.depth);
+    let mid = object_split(all, scratch, level, &binned);
+    (binned.bounds, binned.m, mid)
+}
+
+/// Reorders `all` for its best object split and returns the left half's length, or `None` for
+/// a leaf. Without an SAH split (every centre in one bin, or too deep) the split is by count
+/// along the widest centre axis, so the tree stays balanced.
+fn object_split(
+    all: &mut [Item],
+    scratch: &mut Vec<Item>,
+    level: Level,
+    binned: &Binned,
+) -> Option<usize> {
+    let Level { depth, max_leaf } = level;
+    let n = all.len();
+    if n == 1 {
+        return None;
+    }
+    let Binned { cb, nb, best, .. } = *binned;
     let mid = match best {
-        Some((cost, _, _)) if n <= max_leaf && cost >= leaf => return (bounds, None),
+        Some((cost, _, _)) if n <= max_leaf && cost >= leaf_cost(n) => return None,
         Some((_, axis, left_bins)) => {
             let (lo, hi) = (cb.lo[axis], cb.hi[axis]);
             let scale = nb as f32 / (hi - lo);
@@ -616,10 +733,9 @@ fn decide(all: &mut [Item], scratch: &mut Vec<Item>, level: Level) -> (Aabb, Opt
                 bin_of(i.c[axis], lo, scale, nb) < left_bins
             })
         }
-        None if n <= max_leaf && depth < BALANCED_FROM => return (bounds, None),
+        None if n <= max_leaf && depth < BALANCED_FROM => return None,
         None => {
-            // No SAH split (every centre in one bin) or too deep: split by count along the widest
-            // centre axis, ties by index, so the tree stays balanced.
+            // Ties by index.
             let axis = (0..3)
                 .max_by(|&a, &b| {
                     (cb.hi[a] - cb.lo[a])
@@ -629,12 +745,246 @@ fn decide(all: &mut [Item], scratch: &mut Vec<Item>, level: Level) -> (Aabb, Opt
                 .unwrap_or(0);
             all.sort_by(|a, b| a.c[axis].total_cmp(&b.c[axis]).then(a.local.cmp(&b.local)));
             if n <= max_leaf {
-                return (bounds, None);
+                return None;
             }
             n / 2
         }
     };
-    (bounds, Some(mid))
+    Some(mid)
+}
+
+/// Spatial splits (Stich, Friedrich and Dietrich 2009, "Spatial Splits in Bounding Volume
+/// Hierarchies"): a node may cut its space at a plane instead of its list of primitives, and a
+/// primitive crossing the plane then goes to both sides, each with the box of its own part
+/// ([`Primitive::clip`]). Tried where the best object split's halves overlap by more than
+/// [`SPATIAL_OVERLAP`] of the root's area, and taken where its SAH cost is lower and the node's
+/// budget of extra references allows.
+struct Spatial<'a, P> {
+    prims: &'a [P],
+    refs: &'a [u32],
+    root_area: f32,
+}
+
+/// Overlap of an object split's halves, relative to the root's area, from which a spatial split
+/// is tried (Stich et al.'s α).
+const SPATIAL_OVERLAP: f32 = 1e-5;
+
+impl<P: Primitive> Spatial<'_, P> {
+    /// A box of the part of `it` (its primitive's part in `it.bx`) with `lo ≤ x[axis] ≤ hi`.
+    fn clip(&self, it: &Item, axis: usize, lo: f32, hi: f32) -> Option<Aabb> {
+        let prim = &self.prims[self.refs[it.local as usize] as usize];
+        prim.clip(axis, lo, hi)?.intersect(it.bx)
+    }
+
+    /// The binary subtree over `items` with up to `budget` extra references, nodes in preorder
+    /// with the root first, and its items in leaf order (leaf ranges index them).
+    fn subtree<J: Join>(
+        &self,
+        mut items: Vec<Item>,
+        budget: usize,
+        level: Level,
+        join: &J,
+    ) -> (Vec<BinNode>, Vec<Item>) {
+        let mut scratch = Vec::new();
+        let n = items.len();
+        if budget == 0 {
+            // The plain binned build from here on.
+            let mut out = Vec::new();
+            if n < PARALLEL_MIN {
+                split(&mut out, &mut items, &mut scratch, 0, 0, n, level);
+            } else {
+                out = subtree(&mut items, 0, level, join);
+            }
+            return (out, items);
+        }
+        let binned = bin_objects(&items, level.depth);
+        let mut out = vec![BinNode {
+            bounds: binned.bounds,
+            m: binned.m,
+            left: usize::MAX,
+            right: usize::MAX,
+            start: 0,
+            count: n,
+        }];
+        let spatial = (level.depth < BALANCED_FROM)
+            .then(|| self.best_split(&items, &binned, budget))
+            .flatten()
+            .filter(|&(cost, _, _)| n > level.max_leaf || cost < leaf_cost(n))
+            .and_then(|(_, axis, s)| self.divide(&items, &binned, axis, s));
+        let (l, r) = match spatial {
+            Some(halves) => halves,
+            None => match object_split(&mut items, &mut scratch, level, &binned) {
+                None => return (out, items),
+                Some(mid) => {
+                    let r = items.split_off(mid);
+                    (items, r)
+                }
+            },
+        };
+        drop(scratch);
+        // What the split did not spend goes to the halves in proportion to their items.
+        let rest = budget - (l.len() + r.len() - n);
+        let lb = (rest as u64 * l.len() as u64 / (l.len() + r.len()) as u64) as usize;
+        let rb = rest - lb;
+        let ((ln, li), (rn, ri)) = if n >= PARALLEL_MIN {
+            join.join(
+                || self.subtree(l, lb, level.down(), join),
+                || self.subtree(r, rb, level.down(), join),
+            )
+        } else {
+            (
+                self.subtree(l, lb, level.down(), join),
+                self.subtree(r, rb, level.down(), join),
+            )
+        };
+        link(&mut out, ln, rn, li.len());
+        let mut items = li;
+        items.extend(ri);
+        (out, items)
+    }
+
+    /// The best spatial split of `items` cheaper than `binned`'s object split and within
+    /// `budget` extra references: (cost, axis, bins on the left), bins of equal width over the
+    /// node's box.
+    fn best_split(
+        &self,
+        items: &[Item],
+        binned: &Binned,
+        budget: usize,
+    ) -> Option<(f32, usize, usize)> {
+        let n = items.len();
+        let (bounds, nb) = (binned.bounds, binned.nb);
+        let area = bounds.half_area();
+        if n < 2 || area <= 0.0 || !area.is_finite() {
+            return None;
+        }
+        let mut best = binned.best;
+        if let Some((_, axis, left_bins)) = binned.best {
+            // Only where the object split's halves overlap.
+            let (lo, hi) = (binned.cb.lo[axis], binned.cb.hi[axis]);
+            let scale = nb as f32 / (hi - lo);
+            let (mut lb, mut rb) = (Aabb::EMPTY, Aabb::EMPTY);
+            for i in items {
+                if bin_of(i.c[axis], lo, scale, nb) < left_bins {
+                    lb = lb.union(i.bx);
+                } else {
+                    rb = rb.union(i.bx);
+                }
+            }
+            let overlap = lb.intersect(rb).map_or(0.0, |o| o.half_area());
+            if overlap <= SPATIAL_OVERLAP * self.root_area {
+                return None;
+            }
+        }
+        let mut found = None;
+        for axis in 0..3 {
+            let (lo, hi) = (bounds.lo[axis], bounds.hi[axis]);
+            if hi <= lo || !(hi - lo).is_finite() {
+                continue;
+            }
+            let scale = nb as f32 / (hi - lo);
+            let width = (hi - lo) / nb as f32;
+            let mut bb = [Aabb::EMPTY; BINS];
+            let mut enter = [0usize; BINS];
+            let mut exit = [0usize; BINS];
+            for it in items {
+                let b0 = bin_of(it.bx.lo[axis], lo, scale, nb);
+                let b1 = bin_of(it.bx.hi[axis], lo, scale, nb).max(b0);
+                enter[b0] += 1;
+                exit[b1] += 1;
+                if b0 == b1 {
+                    bb[b0] = bb[b0].union(it.bx);
+                    continue;
+                }
+                // The part of the primitive in each bin it spans: the primitive clipped to the
+                // bin's slab, cut to the item's box (which holds the item's part).
+                for (b, bin) in bb.iter_mut().enumerate().take(b1 + 1).skip(b0) {
+                    let s_lo = if b > b0 {
+                        lo + b as f32 * width
+                    } else {
+                        it.bx.lo[axis]
+                    };
+                    let s_hi = if b < b1 {
+                        lo + (b + 1) as f32 * width
+                    } else {
+                        it.bx.hi[axis]
+                    };
+                    if let Some(part) = self.clip(it, axis, s_lo, s_hi) {
+                        *bin = bin.union(part);
+                    }
+                }
+            }
+            let mut right = [0.0f32; BINS];
+            let (mut acc, mut c) = (Aabb::EMPTY, 0usize);
+            for b in (1..nb).rev() {
+                acc = acc.union(bb[b]);
+                c += exit[b];
+                right[b] = acc.half_area() * leaf_cost(c);
+            }
+            let (mut acc, mut left, mut exited) = (Aabb::EMPTY, 0usize, 0usize);
+            for b in 0..nb - 1 {
+                acc = acc.union(bb[b]);
+                left += enter[b];
+                exited += exit[b];
+                let right_n = n - exited;
+                if left == 0 || right_n == 0 || left + right_n - n > budget {
+                    continue;
+                }
+                let cost =
+                    TRAVERSAL_COST + (acc.half_area() * leaf_cost(left) + right[b + 1]) / area;
+                if best.is_none_or(|(bc, _, _)| cost < bc) {
+                    best = Some((cost, axis, b + 1));
+                    found = best;
+                }
+            }
+        }
+        found
+    }
+
+    /// The two halves of a spatial split at the left edge of bin `s` on `axis`: items wholly on
+    /// one side go there, items across it go to both with the boxes of their parts; `None` when
+    /// a half comes out empty.
+    fn divide(
+        &self,
+        items: &[Item],
+        binned: &Binned,
+        axis: usize,
+        s: usize,
+    ) -> Option<(Vec<Item>, Vec<Item>)> {
+        let (bounds, nb) = (binned.bounds, binned.nb);
+        let (lo, hi) = (bounds.lo[axis], bounds.hi[axis]);
+        let scale = nb as f32 / (hi - lo);
+        let plane = lo + s as f32 * ((hi - lo) / nb as f32);
+        let (mut l, mut r) = (Vec::new(), Vec::new());
+        let part = |it: &Item, bx: Aabb| Item {
+            bx,
+            c: bx.center(),
+            ..*it
+        };
+        for it in items {
+            let b0 = bin_of(it.bx.lo[axis], lo, scale, nb);
+            let b1 = bin_of(it.bx.hi[axis], lo, scale, nb).max(b0);
+            if b1 < s {
+                l.push(*it);
+            } else if b0 >= s {
+                r.push(*it);
+            } else {
+                // The two slabs cover the item's box whatever `plane` is, so its parts hold
+                // every point of the primitive the item held.
+                let (x_lo, x_hi) = (it.bx.lo[axis], it.bx.hi[axis]);
+                let left = self.clip(it, axis, x_lo, plane.min(x_hi));
+                let right = self.clip(it, axis, plane.max(x_lo), x_hi);
+                match (left, right) {
+                    (None, None) => l.push(*it),
+                    (a, b) => {
+                        l.extend(a.map(|a| part(it, a)));
+                        r.extend(b.map(|b| part(it, b)));
+                    }
+                }
+            }
+        }
+        (!l.is_empty() && !r.is_empty()).then_some((l, r))
+    }
 }
 
 #[inline]
@@ -660,10 +1010,12 @@ fn partition(items: &mut [Item], scratch: &mut Vec<Item>, left: impl Fn(&Item) -
 }
 
 /// The box slack of a box at build time: `lo`, `hi` moved outward by [`super::SLACK`] of the
-/// box's largest coordinate magnitude, then by one ulp.
-fn widen(lo: [f32; 3], hi: [f32; 3]) -> ([f32; 3], [f32; 3]) {
-    let m = (0..3).fold(0.0f32, |m, k| m.max(lo[k].abs()).max(hi[k].abs()));
-    let delta = m * super::SLACK;
+/// largest coordinate magnitude of the box and of `m` (its primitives' whole boxes, when a
+/// spatial split clipped them: a kernel's margin scales with the primitive, not the part),
+/// then by one ulp.
+fn widen(bx: Aabb, m: f32) -> ([f32; 3], [f32; 3]) {
+    let (lo, hi) = (bx.lo, bx.hi);
+    let delta = bx.magnitude().max(m) * super::SLACK;
     (
         core::array::from_fn(|k| (lo[k] - delta).next_down()),
         core::array::from_fn(|k| (hi[k] + delta).next_up()),

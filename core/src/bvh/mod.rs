@@ -3,7 +3,8 @@
 //!
 //! - [`Bvh8Node`]: one node, eight children's boxes in SoA (`lo[axis][child]`,
 //!   `hi[axis][child]`, f32) and their references; 256 bytes, `bytemuck::Pod`.
-//! - [`Bvh8`] (feature `alloc`): the owned tree, built by top-down binned SAH ([`Bvh8::build`]).
+//! - [`Bvh8`] (feature `alloc`): the owned tree, built by top-down binned SAH ([`Bvh8::build`]),
+//!   optionally with spatial splits ([`BuildOptions::SPATIAL`], [`Bvh8::try_build_options`]).
 //! - [`Bvh8Ref`]: the same tree as three borrowed slices (nodes, the primitives in leaf order in
 //!   SoA blocks of [`BLOCK`], their indices in the caller's slice). Traversal needs nothing
 //!   else: no allocator, no `std`. A tree built on a host can be written out with `bytemuck`
@@ -14,6 +15,9 @@
 //! [`SLACK`] of its largest coordinate magnitude and one ulp, so that no kernel hit (whose
 //! rounding may place it slightly outside the exact primitive) lies outside the box of its leaf.
 //! Primitives with a non-finite coordinate are left out of the tree (no kernel can hit them).
+//! A spatial split's box holds a part of a primitive ([`crate::prim::Primitive::clip`], rounded
+//! outward) and takes the slack of the whole primitive, so a hit a kernel reports on that part
+//! lies in it too; the parts of a primitive cover it.
 //! Primitive indices are `u32`, and a tree holds at most [`MAX_PRIMS`] primitives.
 //!
 //! # Untrusted trees
@@ -22,8 +26,9 @@
 //! node but the root has exactly one parent; no node is shared, none is unreachable), no deeper
 //! than [`MAX_DEPTH`], whose leaves cover the blocks once and hold indices below the caller's
 //! primitive count. On such a tree every walk runs without panicking or indexing out of bounds,
-//! visits each node and tests each primitive at most once per ray, and reports only primitive
-//! indices below [`Bvh8Ref::prims`]. The boxes are not checked against the primitives: a tree
+//! visits each node and tests each leaf slot at most once per ray, and reports only primitive
+//! indices below [`Bvh8Ref::prims`]. Leaves may name a primitive more than once (a spatial
+//! split's tree puts a primitive in each leaf its parts reach). The boxes are not checked against the primitives: a tree
 //! with wrong boxes gives wrong answers (only the built or faithfully stored tree equals brute
 //! force), never a crash or a long walk.
 
@@ -230,7 +235,7 @@ impl<'a, P: Primitive> Bvh8Ref<'a, P> {
     ///   primitive slice) inside a leaf, [`PAD`] on a leaf's padding.
     ///
     /// A validated tree guarantees: traversal never indexes out of bounds or panics, visits each
-    /// node and tests each primitive at most once per ray (work linear in the tree's size), and
+    /// node and tests each leaf slot at most once per ray (work linear in the tree's size), and
     /// every reported `prim` is below `prims`.
     pub fn new(
         nodes: &'a [Bvh8Node],
@@ -364,4 +369,4 @@ impl<'a, P: Primitive> Bvh8Ref<'a, P> {
 #[cfg(feature = "alloc")]
 pub(crate) use build::refit_parts;
 #[cfg(feature = "alloc")]
-pub use build::{BuildStats, Bvh8, Join, Sequential};
+pub use build::{BuildOptions, BuildStats, Bvh8, Join, Sequential};

@@ -83,6 +83,22 @@ impl Aabb {
         }
     }
 
+    /// The common part of both boxes, or `None` when they do not meet.
+    #[inline]
+    pub fn intersect(self, o: Self) -> Option<Self> {
+        let b = Self {
+            lo: core::array::from_fn(|k| self.lo[k].max(o.lo[k])),
+            hi: core::array::from_fn(|k| self.hi[k].min(o.hi[k])),
+        };
+        (0..3).all(|k| b.lo[k] <= b.hi[k]).then_some(b)
+    }
+
+    /// The largest coordinate magnitude (0 for the empty box).
+    #[inline]
+    pub fn magnitude(&self) -> f32 {
+        (0..3).fold(0.0f32, |m, k| m.max(self.lo[k].abs()).max(self.hi[k].abs()))
+    }
+
     /// True when `lo ≤ hi` on every axis and every coordinate is finite.
     #[inline]
     pub fn is_finite(&self) -> bool {
@@ -107,9 +123,9 @@ fn up(x: f32) -> f32 {
 /// against a block with one vector load per word instead of a gather.
 pub const BLOCK: usize = 8;
 
-/// A primitive layout: plain `f32` data (`bytemuck::Pod`, [`Primitive::WORDS`] words) that a
-/// kernel reads as lanes.
-pub trait Primitive: Copy + bytemuck::Pod {
+/// A primitive layout: plain `f32` data (`bytemuck::Pod`, [`Primitive::WORDS`] words; `Send`
+/// and `Sync`, so builds can share it between threads) that a kernel reads as lanes.
+pub trait Primitive: Copy + bytemuck::Pod + Send + Sync {
     /// The layout's fields as lanes (one primitive per lane, or one broadcast to all).
     type Lanes<L: Lanes>: Copy;
     /// `f32` words per primitive (the layout is `WORDS` plain `f32`s).
@@ -179,6 +195,81 @@ pub trait Primitive: Copy + bytemuck::Pod {
     /// A box holding the primitive exactly as the kernels read it; `None` when a coordinate is
     /// not finite (such a primitive can never be hit).
     fn bounds(&self) -> Option<Aabb>;
+    /// A box holding every point of the primitive (as the kernels read it) with
+    /// `lo ≤ x[axis] ≤ hi`, or `None` when no point has: what a spatial split keeps of the
+    /// primitive on each side of its plane. The default is [`Primitive::bounds`] cut to the
+    /// slab; triangles clip the triangle itself, so the box shrinks with the part.
+    fn clip(&self, axis: usize, lo: f32, hi: f32) -> Option<Aabb> {
+        let mut b = self.bounds()?;
+        b.lo[axis] = b.lo[axis].max(lo);
+        b.hi[axis] = b.hi[axis].min(hi);
+        (b.lo[axis] <= b.hi[axis]).then_some(b)
+    }
+}
+
+/// A box holding the part of triangle `p` (f64 points, exact copies of the kernels' points)
+/// with `lo ≤ x[axis] ≤ hi`, or `None` when no point has.
+///
+/// That part's corners are the vertices inside the slab and the edges' crossings of its two
+/// planes. A crossing takes the plane's coordinate exactly and the others within a few f64 ulps
+/// of the triangle's largest coordinate `m`; the box is grown by `m·2⁻⁴⁰` (far above that
+/// error) and rounded outward to f32, so it holds the exact part.
+#[cfg(feature = "triangle")]
+fn clip_triangle(p: [[f64; 3]; 3], axis: usize, lo: f32, hi: f32) -> Option<Aabb> {
+    let (lo, hi) = (lo as f64, hi as f64);
+    // NaN planes, or an empty slab: nothing.
+    if lo.partial_cmp(&hi).is_none_or(|o| o.is_gt()) {
+        return None;
+    }
+    let (mut b_lo, mut b_hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    let mut add = |q: [f64; 3]| {
+        for k in 0..3 {
+            b_lo[k] = b_lo[k].min(q[k]);
+            b_hi[k] = b_hi[k].max(q[k]);
+        }
+    };
+    for i in 0..3 {
+        let (a, b) = (p[i], p[(i + 1) % 3]);
+        if lo <= a[axis] && a[axis] <= hi {
+            add(a);
+        }
+        for plane in [lo, hi] {
+            if (a[axis] < plane) != (b[axis] < plane) {
+                let s = (plane - a[axis]) / (b[axis] - a[axis]);
+                let mut q: [f64; 3] = core::array::from_fn(|j| a[j] + s * (b[j] - a[j]));
+                q[axis] = plane;
+                add(q);
+            }
+        }
+    }
+    if b_lo[0] > b_hi[0] {
+        return None; // no point added
+    }
+    let m = p.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+    let grow = m * (1.0 / (1u64 << 40) as f64);
+    let down = |x: f64| {
+        let f = (x - grow) as f32;
+        if f as f64 > x - grow {
+            f.next_down()
+        } else {
+            f
+        }
+    };
+    let up = |x: f64| {
+        let f = (x + grow) as f32;
+        if (f as f64) < x + grow {
+            f.next_up()
+        } else {
+            f
+        }
+    };
+    // A part reaching past f32's range (a packed triangle's `v0 + e1`) ends at ±f32::MAX, as
+    // its bounds do.
+    let bx = Aabb {
+        lo: b_lo.map(down),
+        hi: b_hi.map(up),
+    };
+    Some(bx.clamped())
 }
 
 /// A source of primitives' `f32` words for [`Primitive::from_words`]: word `k` of the primitive

@@ -2,7 +2,7 @@
 //! and the unit normal: what the watertight kernel and the textbook read) and [`PackedTriangle`]
 //! (`v0` and two edges: what Möller-Trumbore reads), and their lanes.
 
-use super::{down, up, Aabb, Primitive, Words};
+use super::{clip_triangle, down, up, Aabb, Primitive, Words};
 use crate::lanes::{Lanes, Scalar, V3};
 use glam::Vec3;
 
@@ -168,6 +168,13 @@ impl Primitive for PackedTriangle {
         }
         Some(bx.clamped())
     }
+
+    fn clip(&self, axis: usize, lo: f32, hi: f32) -> Option<Aabb> {
+        self.bounds()?;
+        // v0 + e1 and v0 + e2 in f64 are the kernels' exact points.
+        let p = |e: [f32; 3]| core::array::from_fn(|k| self.v0[k] as f64 + e[k] as f64);
+        clip_triangle([p([0.0; 3]), p(self.e1), p(self.e2)], axis, lo, hi)
+    }
 }
 
 /// [`VertexTriangle`] as lanes: the three vertices and the normal.
@@ -198,6 +205,12 @@ impl Primitive for VertexTriangle {
     }
     fn bounds(&self) -> Option<Aabb> {
         points_bounds([self.v0, self.v1, self.v2])
+    }
+
+    fn clip(&self, axis: usize, lo: f32, hi: f32) -> Option<Aabb> {
+        self.bounds()?;
+        let p = |v: [f32; 3]| v.map(f64::from);
+        clip_triangle([p(self.v0), p(self.v1), p(self.v2)], axis, lo, hi)
     }
 }
 

@@ -5,7 +5,9 @@ use super::{
     Geometry, Instance, InstanceBox, Level, Member, SceneParts, SceneRef, SceneTree, Transform,
     TreeParts, INSTANCES, MAX_INSTANCE_LEVELS, SPHERES, TRIANGLES,
 };
-use crate::bvh::{refit_parts, Bvh8, Bvh8Node, Bvh8Ref, BvhError, Join, Sequential, SLACK};
+use crate::bvh::{
+    refit_parts, BuildOptions, Bvh8, Bvh8Node, Bvh8Ref, BvhError, Join, Sequential, SLACK,
+};
 use crate::prim::{Aabb, Primitive, BLOCK};
 use alloc::vec::Vec;
 
@@ -125,6 +127,8 @@ pub struct Scene<T, S> {
     world_unbounded: usize,
     origin_slack: f32,
     committed: bool,
+    /// How the trees of geometries are built.
+    build: BuildOptions,
 }
 
 impl<T: Primitive + Sync, S: Primitive + Sync> Default for Scene<T, S> {
@@ -172,6 +176,7 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
             world_unbounded: 0,
             origin_slack: SLACK,
             committed: true,
+            build: BuildOptions::BINNED,
         }
     }
 
@@ -187,6 +192,13 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
         });
         self.prims.push(prims);
         Ok(id)
+    }
+
+    /// How the trees of geometries built by later commits are built (the binned build unless
+    /// set; [`BuildOptions::SPATIAL`] for spatial splits). Trees already built keep theirs; the
+    /// instances' trees are always binned.
+    pub fn set_build_options(&mut self, options: BuildOptions) {
+        self.build = options;
     }
 
     /// Adds a triangle mesh (its indices become its hits' `prim`); returns its geometry index.
@@ -426,7 +438,7 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
         prims: &[P],
         join: &J,
     ) -> Result<(), BvhError> {
-        let tree = Bvh8::try_build_with(prims, join)?;
+        let tree = Bvh8::try_build_options(prims, self.build, join)?;
         let skipped = tree.stats().skipped > 0;
         let (nodes, blocks, ids) = tree.into_parts();
         let trees = &mut self.kinds[kind as usize];

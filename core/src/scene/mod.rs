@@ -56,7 +56,7 @@
 //! # Untrusted scenes
 //! [`SceneRef::new`] takes any slices: it answers `Ok` or a [`SceneError`], never panics, in time
 //! linear in their total length and without an allocator. On a scene it accepts, every query is
-//! total: no panic, each node visited and each primitive tested at most once per ray and
+//! total: no panic, each node visited and each leaf slot tested at most once per ray and
 //! instance visit, every reported geometry, instance path and primitive in range. Groups
 //! multiply the work: a ray visits each tree of geometries at most once per instance path
 //! ([`SceneRef::paths`]) in a scene [`Scene`] built; a hostile scene can also name an instance

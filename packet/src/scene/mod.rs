@@ -39,7 +39,7 @@
 //! # Untrusted trees
 //! On any tree [`Bvh8Ref::new`] accepted, built or read from untrusted bytes, every call here is
 //! total: no panic (but the documented length checks of [`closest`] and [`occluded`]), each node
-//! visited and each primitive tested at most once per ray, and every reported `prim` below
+//! visited and each leaf slot tested at most once per ray, and every reported `prim` below
 //! [`Bvh8Ref::prims`].
 
 #[cfg(doc)]
