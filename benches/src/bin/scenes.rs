@@ -8,7 +8,7 @@
 //! without the scene-model and instancing sections). tinybvh's rows need `--features tinybvh`
 //! (a C++20 compiler builds it); without it they say "skipped".
 
-use octoray::bvh::{Bvh8, Bvh8Ref};
+use octoray::bvh::{BuildOptions, Bvh8, Bvh8Ref, Sequential};
 use octoray::kernels::{MollerTrumbore, Watertight};
 use octoray::lanes::LaneMask;
 use octoray::prim::{PackedTriangle, RayLanes, VertexTriangle};
@@ -241,6 +241,40 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
         bounce.len(),
         &mut || singles_any::<f32x8, Watertight>(wr, &bounce),
     );
+    // The watertight tier on the tree with spatial splits.
+    let spatial =
+        || Bvh8::try_build_options(&verts, BuildOptions::SPATIAL, &Sequential).expect("build");
+    let (spatial_s, _) = best(runs, || spatial().stats().nodes as u64);
+    let ws = spatial();
+    let (wsr, ws_stats) = (ws.as_ref(), ws.stats());
+    let tier = "watertight, spatial splits";
+    row(
+        "primary",
+        "closest",
+        "packet-8 (4×2 tiles)",
+        tier,
+        p8.len(),
+        &mut || packets_closest::<f32x8, Watertight>(wsr, &p8),
+    );
+    row(
+        "primary",
+        "closest",
+        "single ray (leaves ×8)",
+        tier,
+        p8.len(),
+        &mut || singles_closest::<f32x8, Watertight>(wsr, &p8),
+    );
+    row("primary", "any", "single ray", tier, p8.len(), &mut || {
+        singles_any::<f32x8, Watertight>(wsr, &p8)
+    });
+    row(
+        "diffuse bounce",
+        "closest",
+        "single ray",
+        tier,
+        bounce.len(),
+        &mut || singles_closest::<f32x8, Watertight>(wsr, &bounce),
+    );
     // Peers, same rays, same run.
     let (ob, ob_build) = ObvhsScene::build(&s.tris);
     let (bv, bv_build) = BvhScene::build(&s.tris);
@@ -277,6 +311,13 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
         &mut || bv.closest(&p8),
     );
     let mut builds = vec![
+        (
+            format!(
+                "octoray, spatial splits (`BuildOptions::SPATIAL`; {} references for {} triangles, SAH cost {:.1})",
+                ws_stats.references, ws_stats.prims, ws_stats.sah_cost
+            ),
+            spatial_s,
+        ),
         (
             {
                 let (n, l, b) = ob.sah_cost();
