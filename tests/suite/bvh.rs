@@ -881,8 +881,7 @@ fn threaded_refit_equals_single_threaded_refit_and_brute_force() {
 
 /// Long thin triangles across each other (the case spatial splits exist for): the spatial tree
 /// puts parts of them in several leaves within its budget, costs less by the SAH than the binned
-/// tree (303.7 against 306.0: most splits near the root would need more than the budget), and
-/// answers as brute force does.
+/// tree, and answers as brute force does.
 #[test]
 fn spatial_splits_cut_long_triangles_within_their_budget() {
     let mut rng = Rng(17);
@@ -904,7 +903,7 @@ fn spatial_splits_cut_long_triangles_within_their_budget() {
     );
     assert_eq!(b.references, verts.len());
     assert!(s.references > verts.len(), "no spatial split was taken");
-    assert!(s.references <= verts.len() + verts.len() / 4, "over budget");
+    assert!(s.references <= 2 * verts.len(), "over budget");
     assert!(s.sah_cost < b.sah_cost, "{} vs {}", s.sah_cost, b.sah_cost);
     // Every primitive is in some leaf.
     let mut held = vec![false; verts.len()];

@@ -68,17 +68,18 @@ pub struct Bvh8<P> {
 pub struct BuildOptions {
     /// How many extra leaf references spatial splits may add, as a share of the primitives
     /// (0: no spatial splits; at most 1). Each split leaves what it did not spend to its halves
-    /// in proportion to their items, so the build stays deterministic under any join.
+    /// in proportion to their items (and below the join's size, what the left half leaves to
+    /// the right one), so the build stays deterministic under any join.
     pub split_budget: f32,
 }
 
 impl BuildOptions {
     /// The binned SAH build: fastest to build, every primitive in one leaf.
     pub const BINNED: Self = Self { split_budget: 0.0 };
-    /// Spatial splits with up to a quarter more leaf references: slower to build, fewer
-    /// primitive tests and node visits where primitives are long or large against their
-    /// neighbours (a primitive may then sit in several leaves).
-    pub const SPATIAL: Self = Self { split_budget: 0.25 };
+    /// Spatial splits with up to as many leaf references again as primitives: slower to build
+    /// and larger, far fewer primitive tests and node visits where primitives are long or large
+    /// against their neighbours (a primitive may then sit in several leaves).
+    pub const SPATIAL: Self = Self { split_budget: 1.0 };
 
     /// Extra references for `n` items.
     fn budget(&self, n: usize) -> usize {
@@ -238,7 +239,8 @@ impl<P: Primitive> Bvh8<P> {
                     .fold(Aabb::EMPTY, |a, &b| a.union(b))
                     .half_area(),
             };
-            let (bin, placed) = spatial.subtree(core::mem::take(&mut items), budget, level, join);
+            let (bin, placed, _) =
+                spatial.subtree(core::mem::take(&mut items), budget, level, join);
             items = placed;
             bin
         };
@@ -777,14 +779,15 @@ impl<P: Primitive> Spatial<'_, P> {
     }
 
     /// The binary subtree over `items` with up to `budget` extra references, nodes in preorder
-    /// with the root first, and its items in leaf order (leaf ranges index them).
+    /// with the root first, its items in leaf order (leaf ranges index them), and the budget it
+    /// left unspent.
     fn subtree<J: Join>(
         &self,
         mut items: Vec<Item>,
         budget: usize,
         level: Level,
         join: &J,
-    ) -> (Vec<BinNode>, Vec<Item>) {
+    ) -> (Vec<BinNode>, Vec<Item>, usize) {
         let mut scratch = Vec::new();
         let n = items.len();
         if budget == 0 {
@@ -795,7 +798,7 @@ impl<P: Primitive> Spatial<'_, P> {
             } else {
                 out = subtree(&mut items, 0, level, join);
             }
-            return (out, items);
+            return (out, items, 0);
         }
         let binned = bin_objects(&items, level.depth);
         let mut out = vec![BinNode {
@@ -814,7 +817,7 @@ impl<P: Primitive> Spatial<'_, P> {
         let (l, r) = match spatial {
             Some(halves) => halves,
             None => match object_split(&mut items, &mut scratch, level, &binned) {
-                None => return (out, items),
+                None => return (out, items, budget),
                 Some(mid) => {
                     let r = items.split_off(mid);
                     (items, r)
@@ -822,25 +825,29 @@ impl<P: Primitive> Spatial<'_, P> {
             },
         };
         drop(scratch);
-        // What the split did not spend goes to the halves in proportion to their items.
+        // What the split did not spend goes to the halves in proportion to their items; below
+        // the size handed to the join, what the left half leaves goes on to the right one (the
+        // halves run one after the other there whatever the join, so the tree stays the same).
         let rest = budget - (l.len() + r.len() - n);
         let lb = (rest as u64 * l.len() as u64 / (l.len() + r.len()) as u64) as usize;
         let rb = rest - lb;
-        let ((ln, li), (rn, ri)) = if n >= PARALLEL_MIN {
+        let ((ln, li, l_left), (rn, ri, r_left)) = if n >= PARALLEL_MIN {
             join.join(
                 || self.subtree(l, lb, level.down(), join),
                 || self.subtree(r, rb, level.down(), join),
             )
         } else {
+            let left = self.subtree(l, lb, level.down(), join);
+            let carry = left.2;
             (
-                self.subtree(l, lb, level.down(), join),
-                self.subtree(r, rb, level.down(), join),
+                (left.0, left.1, 0),
+                self.subtree(r, rb + carry, level.down(), join),
             )
         };
         link(&mut out, ln, rn, li.len());
         let mut items = li;
         items.extend(ri);
-        (out, items)
+        (out, items, l_left + r_left)
     }
 
     /// The best spatial split of `items` cheaper than `binned`'s object split and within
@@ -896,8 +903,12 @@ impl<P: Primitive> Spatial<'_, P> {
                     bb[b0] = bb[b0].union(it.bx);
                     continue;
                 }
-                // The part of the primitive in each bin it spans: the primitive clipped to the
-                // bin's slab, cut to the item's box (which holds the item's part).
+                // The part in each bin it spans: for an item long against the node, the
+                // primitive clipped to the bin's slab and cut to the item's box (which holds the
+                // item's part); for a short one, just its box cut to the slab (a looser bound,
+                // for the cost estimate only: clipping would tighten it little and costs more
+                // than the rest of the sweep).
+                let long = it.bx.hi[axis] - it.bx.lo[axis] > (hi - lo) * 0.25;
                 for (b, bin) in bb.iter_mut().enumerate().take(b1 + 1).skip(b0) {
                     let s_lo = if b > b0 {
                         lo + b as f32 * width
@@ -909,7 +920,15 @@ impl<P: Primitive> Spatial<'_, P> {
                     } else {
                         it.bx.hi[axis]
                     };
-                    if let Some(part) = self.clip(it, axis, s_lo, s_hi) {
+                    let part = if long {
+                        self.clip(it, axis, s_lo, s_hi)
+                    } else {
+                        let mut cut = it.bx;
+                        cut.lo[axis] = s_lo.max(cut.lo[axis]);
+                        cut.hi[axis] = s_hi.min(cut.hi[axis]);
+                        Some(cut)
+                    };
+                    if let Some(part) = part {
                         *bin = bin.union(part);
                     }
                 }

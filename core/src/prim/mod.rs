@@ -208,7 +208,7 @@ pub trait Primitive: Copy + bytemuck::Pod + Send + Sync {
 }
 
 /// A box holding the part of triangle `p` (f64 points, exact copies of the kernels' points)
-/// with `lo ≤ x[axis] ≤ hi`, or `None` when no point has.
+/// with `lo ≤ x[axis] ≤ hi`, or `None` when no point has (or a coordinate is not finite).
 ///
 /// That part's corners are the vertices inside the slab and the edges' crossings of its two
 /// planes. A crossing takes the plane's coordinate exactly and the others within a few f64 ulps
@@ -217,8 +217,8 @@ pub trait Primitive: Copy + bytemuck::Pod + Send + Sync {
 #[cfg(feature = "triangle")]
 fn clip_triangle(p: [[f64; 3]; 3], axis: usize, lo: f32, hi: f32) -> Option<Aabb> {
     let (lo, hi) = (lo as f64, hi as f64);
-    // NaN planes, or an empty slab: nothing.
-    if lo.partial_cmp(&hi).is_none_or(|o| o.is_gt()) {
+    // NaN planes, an empty slab or a triangle that is not finite (never hit): nothing.
+    if lo.partial_cmp(&hi).is_none_or(|o| o.is_gt()) || !p.iter().flatten().all(|x| x.is_finite()) {
         return None;
     }
     let (mut b_lo, mut b_hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);

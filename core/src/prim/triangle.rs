@@ -170,7 +170,6 @@ impl Primitive for PackedTriangle {
     }
 
     fn clip(&self, axis: usize, lo: f32, hi: f32) -> Option<Aabb> {
-        self.bounds()?;
         // v0 + e1 and v0 + e2 in f64 are the kernels' exact points.
         let p = |e: [f32; 3]| core::array::from_fn(|k| self.v0[k] as f64 + e[k] as f64);
         clip_triangle([p([0.0; 3]), p(self.e1), p(self.e2)], axis, lo, hi)
@@ -208,7 +207,6 @@ impl Primitive for VertexTriangle {
     }
 
     fn clip(&self, axis: usize, lo: f32, hi: f32) -> Option<Aabb> {
-        self.bounds()?;
         let p = |v: [f32; 3]| v.map(f64::from);
         clip_triangle([p(self.v0), p(self.v1), p(self.v2)], axis, lo, hi)
     }
