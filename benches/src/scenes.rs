@@ -81,6 +81,19 @@ pub fn sponza() -> Result<SceneSet, String> {
     })
 }
 
+/// Two triangles per cell of an `n × rows` grid of points `p(i, j)` (`i ≤ n`, `j ≤ rows`).
+fn grid(n: u32, rows: u32, p: impl Fn(u32, u32) -> Vec3) -> Vec<[Vec3; 3]> {
+    let mut tris = Vec::with_capacity((2 * n * rows) as usize);
+    for j in 0..rows {
+        for i in 0..n {
+            let (a, b, c, d) = (p(i, j), p(i + 1, j), p(i + 1, j + 1), p(i, j + 1));
+            tris.push([a, b, c]);
+            tris.push([a, c, d]);
+        }
+    }
+    tris
+}
+
 /// A latitude-longitude sphere of `2·n·(n/2)` triangles, radius 1 jittered by ±2 %, seen from
 /// outside.
 pub fn jittered_sphere(n: u32) -> SceneSet {
@@ -100,14 +113,7 @@ pub fn jittered_sphere(n: u32) -> SceneSet {
         let r = 1.0 + 0.04 * h(j * n + (i % n));
         Vec3::new(th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin()) * r
     };
-    let mut tris = Vec::with_capacity((2 * n * rows) as usize);
-    for j in 0..rows {
-        for i in 0..n {
-            let (a, b, c, d) = (p(i, j), p(i + 1, j), p(i + 1, j + 1), p(i, j + 1));
-            tris.push([a, b, c]);
-            tris.push([a, c, d]);
-        }
-    }
+    let tris = grid(n, rows, p);
     SceneSet {
         name: "jittered sphere",
         tris,
@@ -116,6 +122,120 @@ pub fn jittered_sphere(n: u32) -> SceneSet {
             eye: Vec3::new(0.0, 0.3, 3.2),
             target: Vec3::ZERO,
             fov: 45f32.to_radians(),
+        },
+    }
+}
+
+/// A deterministic xorshift stream in `[0, 1)` (the generated scenes' only randomness).
+fn stream(mut seed: u64) -> impl FnMut() -> f32 {
+    move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 40) as f32 / (1u64 << 24) as f32
+    }
+}
+
+/// The twelve triangles of a box with corner `o` and edges `a`, `b`, `c`.
+fn box_tris(o: Vec3, a: Vec3, b: Vec3, c: Vec3, out: &mut Vec<[Vec3; 3]>) {
+    for (u, v, w) in [(a, b, c), (b, c, a), (c, a, b)] {
+        let far = o + w;
+        out.push([o, o + u, o + u + v]);
+        out.push([o, o + u + v, o + v]);
+        out.push([far, far + v, far + u + v]);
+        out.push([far, far + u + v, far + u]);
+    }
+}
+
+/// A city of boxes, long thin beams and needle triangles on a 400 × 400 ground of two
+/// triangles (the case spatial splits exist for: long primitives across many small ones), seen
+/// from street level: about 80 000 triangles.
+pub fn city() -> SceneSet {
+    let mut r = stream(0x9E37_79B9_7F4A_7C15);
+    let mut tris = vec![
+        [
+            Vec3::new(-200.0, 0.0, -200.0),
+            Vec3::new(200.0, 0.0, 200.0),
+            Vec3::new(200.0, 0.0, -200.0),
+        ],
+        [
+            Vec3::new(-200.0, 0.0, -200.0),
+            Vec3::new(-200.0, 0.0, 200.0),
+            Vec3::new(200.0, 0.0, 200.0),
+        ],
+    ];
+    // Buildings on a jittered 60 × 60 grid of 6-unit lots, some rotated about y.
+    for i in 0..60 {
+        for j in 0..60 {
+            if r() < 0.15 {
+                continue;
+            }
+            let (w, d, h) = (1.0 + 3.5 * r(), 1.0 + 3.5 * r(), 2.0 + 38.0 * r() * r());
+            let base = Vec3::new(-180.0 + 6.0 * i as f32, 0.0, -180.0 + 6.0 * j as f32);
+            let angle = if r() < 0.3 { r() * 1.5 } else { 0.0 };
+            let (s, c) = angle.sin_cos();
+            let (a, b) = (Vec3::new(c, 0.0, s) * w, Vec3::new(-s, 0.0, c) * d);
+            box_tris(base, a, Vec3::Y * h, b, &mut tris);
+        }
+    }
+    // Beams: 2 000 long thin boxes at random heights and headings, 20 to 120 long.
+    for _ in 0..2_000 {
+        let o = Vec3::new(360.0 * r() - 180.0, 1.0 + 40.0 * r(), 360.0 * r() - 180.0);
+        let heading = r() * std::f32::consts::TAU;
+        let len = 20.0 + 100.0 * r();
+        let along = Vec3::new(heading.cos(), 0.05 * (r() - 0.5), heading.sin()) * len;
+        let side = along.cross(Vec3::Y).normalize_or_zero() * (0.1 + 0.2 * r());
+        box_tris(o, along, Vec3::Y * (0.1 + 0.3 * r()), side, &mut tris);
+    }
+    // Needles: 10 000 triangles 5 to 60 long and about 0.02 wide (cables, antennas, trim).
+    for _ in 0..10_000 {
+        let o = Vec3::new(380.0 * r() - 190.0, 50.0 * r(), 380.0 * r() - 190.0);
+        let dir = Vec3::new(r() - 0.5, r() - 0.5, r() - 0.5).normalize_or(Vec3::X);
+        let len = 5.0 + 55.0 * r();
+        let w = Vec3::new(r() - 0.5, r() - 0.5, r() - 0.5).normalize_or(Vec3::Y) * 0.02;
+        tris.push([o, o + dir * len, o + w]);
+    }
+    SceneSet {
+        name: "city",
+        tris,
+        meshes: vec![0],
+        camera: Pinhole {
+            eye: Vec3::new(-170.0, 6.0, -160.0),
+            target: Vec3::new(0.0, 10.0, 0.0),
+            fov: 70f32.to_radians(),
+        },
+    }
+}
+
+/// A fractal heightfield of `2·n²` triangles over 1000 × 1000, seen at grazing angles from just
+/// above it (`n = 708`: a million triangles).
+pub fn terrain(n: u32) -> SceneSet {
+    let height = |x: f32, z: f32| {
+        let mut h = 0.0;
+        let (mut f, mut a) = (0.004f32, 60.0f32);
+        for k in 0..6 {
+            let k = k as f32;
+            h += a * ((x * f + 1.3 * k).sin() * (z * f * 1.1 + 0.7 * k).cos());
+            f *= 2.03;
+            a *= 0.45;
+        }
+        h
+    };
+    let step = 1000.0 / n as f32;
+    let p = |i: u32, j: u32| {
+        let (x, z) = (-500.0 + step * i as f32, -500.0 + step * j as f32);
+        Vec3::new(x, height(x, z), z)
+    };
+    let tris = grid(n, n, p);
+    let eye = Vec3::new(-480.0, 0.0, -480.0);
+    SceneSet {
+        name: "terrain",
+        tris,
+        meshes: vec![0],
+        camera: Pinhole {
+            eye: eye + Vec3::Y * (height(eye.x, eye.z) + 8.0),
+            target: Vec3::new(200.0, 0.0, 250.0),
+            fov: 60f32.to_radians(),
         },
     }
 }

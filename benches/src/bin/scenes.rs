@@ -1,5 +1,6 @@
-//! The scene-level report: BVH build and traversal on Sponza and a generated ≥ 1 M-triangle
-//! sphere, one thread and all cores, packets of 8 and 16, single rays, closest and any hit,
+//! The scene-level report: BVH build and traversal on Sponza and generated scenes (a ≥ 1
+//! M-triangle sphere, a city of boxes, beams and needles, a 1 M-triangle terrain at grazing
+//! angles), one thread and all cores, packets of 8 and 16, single rays, closest and any hit,
 //! primary and diffuse-bounce rays. Writes `benches/scenes.md` and prints it.
 //!
 //! Run: `RUSTFLAGS="-C target-cpu=native" cargo run --release -p octoray-benches --bin scenes`
@@ -20,8 +21,8 @@ use octoray_benches::instancing::{
 };
 use octoray_benches::scene_peers::{BvhScene, ObvhsScene, TinyBvhScene};
 use octoray_benches::scenes::{
-    batch_closest, jittered_sphere, packets_any, packets_closest, singles_any, singles_closest,
-    sponza, SceneSet,
+    batch_closest, city, jittered_sphere, packets_any, packets_closest, singles_any,
+    singles_closest, sponza, terrain, SceneSet,
 };
 use rayon::prelude::*;
 use std::fmt::Write as _;
@@ -885,7 +886,10 @@ fn main() {
         instancing_report(runs, &mut md);
     }
     if !std::env::args().any(|a| a == "--sponza") {
-        report(&jittered_sphere(1024), runs, &mut md);
+        // Generated scenes of other kinds: no downloads, the same triangles on every machine.
+        for s in [jittered_sphere(1024), city(), terrain(708)] {
+            report(&s, runs, &mut md);
+        }
     }
     print!("{md}");
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes.md");
