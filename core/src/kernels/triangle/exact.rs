@@ -255,6 +255,9 @@ pub struct LaneQuery {
     pub cull: bool,
     /// Decide `t ≤ t_max` (else it was decided already).
     pub check_max: bool,
+    /// Return `t` to within 2⁻³² of itself (else only the decisions are needed, and
+    /// [`Resolved`]'s values are f64 estimates).
+    pub needs_t: bool,
 }
 
 /// Decides one ray against one triangle exactly: with `edges`, that the line passes inside (and,
@@ -409,10 +412,12 @@ fn resolve_f64(q: &LaneQuery) -> Option<Option<Resolved>> {
     }
     // t to 2⁻³² relative, else the exact stage (t near 0, or N and D barely certified).
     let t_rel = 1.01 * (err_n / num.abs() + err_d / den.abs()) + 2.0 * u;
-    if !matches!(
-        t_rel.partial_cmp(&(1.0 / 4_294_967_296.0)),
-        Some(Ordering::Less | Ordering::Equal)
-    ) {
+    if q.needs_t
+        && !matches!(
+            t_rel.partial_cmp(&(1.0 / 4_294_967_296.0)),
+            Some(Ordering::Less | Ordering::Equal)
+        )
+    {
         return None;
     }
     Some(Some(Resolved {

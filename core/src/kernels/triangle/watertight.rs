@@ -37,10 +37,13 @@
 //!   the edge functions, with the standard tier's bound `8·ε·max(|t|, reach)/(|cos θ|·sin α)`
 //!   (α the smallest angle); at f64 widths always that blend (its error, `∝ 2⁻⁵³/sin α`, is
 //!   below f32's resolution). Hits have finite `t ∈ [t_min, t_max]` (the reported `t` is
-//!   clamped up to `t_min` where the exact `t` was certified above it). Where the kernel's
-//!   products leave `[2⁻¹⁰⁰, 2¹⁰⁰]`, or the determinant is within its own error bound (rays
-//!   within ~1e-6 rad of the plane), `t` is the exact `t` rounded instead, and `t ≤ t_max` is
-//!   decided on it exactly.
+//!   clamped up to `t_min` where the exact `t` was certified above it). Where the determinant
+//!   is within its own error bound (a triangle that subtends less than about 2·10⁻³ rad seen
+//!   from the origin, or a ray within ~1e-6 rad of the plane), `t ≥ t_min` is decided by the
+//!   exact stage (f64 with a certified bound, exact arithmetic where that cannot decide) and
+//!   `t` stays the plane distance. Where the kernel's products leave `[2⁻¹⁰⁰, 2¹⁰⁰]`, or the
+//!   plane distance is not usable there, `t` is the exact `t` rounded instead, and `t ≤ t_max`
+//!   is decided on it exactly.
 //! - Zero escapes over 10⁵ rays aimed at the vertices and edges of closed jittered meshes centred
 //!   at 0…1e6 (`tests/suite/watertight.rs`); in the trade report 0.000 % (report: `watertight, 8
 //!   lanes`, crack rate) escape where the standard tier lets 1.540 % (report: `standard, 8
@@ -393,16 +396,18 @@ fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
     let err_d = L::splat(3.01) * de + ulps::<L>(2.01) * abs_det;
     let room = abs_det - err_d;
     let me = max_z * max_e;
-    // The filter's window: products normal and finite, and D̂ clear of its error bound. Lanes
-    // outside it take t (and the range) from the exact stage.
-    let safe = de_safe
-        & room.gt(L::splat(0.01) * err_d)
+    // The filter's window: products normal and finite (`scaled`), and D̂ clear of its error
+    // bound. Lanes outside it have their range decided by the exact stage.
+    let scaled = de_safe
         & max_z.ge(L::splat(SAFE_MIN))
         & me.ge(L::splat(SAFE_MIN))
         & me.le(L::splat(SAFE_MAX));
+    let safe = scaled & room.gt(L::splat(0.01) * err_d);
     // Watertight lanes whose t_max the exact stage decides: where the reported t is not finite,
-    // and lanes outside the safe window.
+    // and lanes outside the safe window that keep no t of their own (the exact stage's loop).
     let mut max_untested = ray.active & !ray.active;
+    // Watertight lanes whose reported t is the plane distance.
+    let mut plane_ok = max_untested;
     // The watertight tier's reported t (the edge test has decided; this places the hit). At f32
     // widths the plane distance `((v0 − o)·n)/(d·n)` from the stored unit normal (formed in f64
     // when the triangle was stored): its error does not grow as the triangle thins, so the hit
@@ -421,6 +426,7 @@ fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
             let dn = d.x * n.x + d.y * n.y + d.z * n.z;
             let tp = an / dn;
             let ok = ((dn.lt(zero) & det.gt(zero)) | (dn.gt(zero) & det.lt(zero))) & tp.is_finite();
+            plane_ok = ok;
             if (mask & !ok).any() {
                 L::select(ok, tp, t_num / det)
             } else {
@@ -493,6 +499,18 @@ fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
         let mut bits = todo.bitmask();
         let safe_bits = safe.bitmask();
         let untested_bits = max_untested.bitmask();
+        // Outside the window only because D̂ is not clear of its bound (a triangle that subtends
+        // less than about 2·10⁻³ rad from the origin, or a ray all but in its plane), with the
+        // plane distance as t: that t does not depend on D̂, so such a lane keeps it and its
+        // rounded t_max test (a lane that fails it is a miss: the mask above kept it only for
+        // this stage), and the exact stage decides t ≥ t_min alone.
+        let (keeps_bits, far_bits) = if EXACT {
+            (0, 0)
+        } else {
+            let keeps = scaled & plane_ok & !safe & !max_untested;
+            let below = t_report.le(t_max);
+            ((keeps & below).bitmask(), (keeps & !below).bitmask())
+        };
         let (mut keep, mut exact_bary) = (0u32, 0u32);
         let (mut ue, mut ve) = ([0.0f64; MAX_LANES], [0.0f64; MAX_LANES]);
         while bits != 0 {
@@ -511,7 +529,12 @@ fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
                 _ => f(p),
             };
             let whole = (exact_lanes.bitmask() >> i) & 1 == 1;
-            let unsafe_lane = (safe_bits >> i) & 1 == 0;
+            if (far_bits >> i) & 1 == 1 {
+                continue;
+            }
+            let keeps = (keeps_bits >> i) & 1 == 1;
+            // Outside the window, and with no t of its own: t and t_max from the exact stage.
+            let unsafe_lane = (safe_bits >> i) & 1 == 0 && !keeps;
             // The watertight tier decided its edges and its rounded t_max test already; where its
             // products over- or underflowed that rounded t is meaningless, so t_max is decided
             // exactly there too.
@@ -524,6 +547,7 @@ fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
                 edges: whole,
                 cull: CULL,
                 check_max: EXACT || unsafe_lane || (untested_bits >> i) & 1 == 1,
+                needs_t: whole || unsafe_lane,
             }) else {
                 continue;
             };
