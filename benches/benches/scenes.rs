@@ -92,7 +92,7 @@ fn scene(c: &mut Criterion, s: &SceneSet) {
     });
     g.finish();
     let r = bvh.as_ref();
-    let all = s.primary_tiled(1024, 768, 4, 2);
+    let all = s.primary_tiled(0, 1024, 768, 4, 2);
     let primary: Vec<Ray> = all[all.len() / 2..all.len() / 2 + 16_384].to_vec();
     let bounce = s.diffuse_bounces(&primary, &bvh);
     let mut g = c.benchmark_group(format!("bvh_traverse_{}", s.name.replace(' ', "_")));

@@ -8,6 +8,7 @@ pub mod embree;
 pub mod instancing;
 pub mod peers;
 pub mod report;
+pub mod scene_chart;
 pub mod scene_peers;
 pub mod scenes;
 pub mod speed;

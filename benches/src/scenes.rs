@@ -1,6 +1,8 @@
 //! Scene-scale workloads: Sponza (the OBJ shipped in the `bvh` crate's package, found through
-//! `cargo metadata`) and a generated sphere of ≥ 1 M triangles, with 1024×768 pinhole primary rays
-//! and one diffuse bounce per primary hit.
+//! `cargo metadata`) and generated scenes of other kinds (a sphere of ≥ 1 M triangles, a city of
+//! boxes, beams and needles, a terrain at grazing angles, a scanned-like mesh in a closed room,
+//! an open field of rocks where most rays miss), each with two cameras and a point light: pinhole
+//! primary rays, one diffuse bounce per primary hit and one shadow ray per primary hit.
 
 use glam::Vec3;
 use octoray::bvh::{Bvh8, Bvh8Ref};
@@ -13,13 +15,16 @@ use std::path::PathBuf;
 use std::process::Command;
 use wide::f32x8;
 
-/// A triangle scene with a camera.
+/// A triangle scene with two cameras and a point light.
 pub struct SceneSet {
     pub name: &'static str,
     pub tris: Vec<[Vec3; 3]>,
     /// Where each mesh of the file starts in `tris` (one mesh: `[0]`).
     pub meshes: Vec<usize>,
-    pub camera: Pinhole,
+    /// The main camera and a second one that sees the scene from elsewhere.
+    pub cameras: [Pinhole; 2],
+    /// Where shadow rays go.
+    pub light: Vec3,
 }
 
 /// Where cargo unpacked the `bvh` crate's `media/sponza.obj`.
@@ -73,11 +78,20 @@ pub fn sponza() -> Result<SceneSet, String> {
         name: "Sponza",
         tris,
         meshes,
-        camera: Pinhole {
-            eye: Vec3::new(-10.0, 3.0, 0.0),
-            target: Vec3::new(10.0, 5.0, 0.0),
-            fov: 70f32.to_radians(),
-        },
+        cameras: [
+            Pinhole {
+                eye: Vec3::new(-10.0, 3.0, 0.0),
+                target: Vec3::new(10.0, 5.0, 0.0),
+                fov: 70f32.to_radians(),
+            },
+            // From the far end, up into the arcades.
+            Pinhole {
+                eye: Vec3::new(11.0, 1.5, 2.5),
+                target: Vec3::new(-6.0, 7.0, -3.0),
+                fov: 60f32.to_radians(),
+            },
+        ],
+        light: Vec3::new(0.5, 13.0, 0.3),
     })
 }
 
@@ -118,11 +132,20 @@ pub fn jittered_sphere(n: u32) -> SceneSet {
         name: "jittered sphere",
         tris,
         meshes: vec![0],
-        camera: Pinhole {
-            eye: Vec3::new(0.0, 0.3, 3.2),
-            target: Vec3::ZERO,
-            fov: 45f32.to_radians(),
-        },
+        cameras: [
+            Pinhole {
+                eye: Vec3::new(0.0, 0.3, 3.2),
+                target: Vec3::ZERO,
+                fov: 45f32.to_radians(),
+            },
+            // Close, along the surface toward the horizon.
+            Pinhole {
+                eye: Vec3::new(1.3, 0.9, 0.4),
+                target: Vec3::new(-1.0, -0.6, -0.6),
+                fov: 70f32.to_radians(),
+            },
+        ],
+        light: Vec3::new(3.0, 4.0, 2.0),
     }
 }
 
@@ -199,11 +222,20 @@ pub fn city() -> SceneSet {
         name: "city",
         tris,
         meshes: vec![0],
-        camera: Pinhole {
-            eye: Vec3::new(-170.0, 6.0, -160.0),
-            target: Vec3::new(0.0, 10.0, 0.0),
-            fov: 70f32.to_radians(),
-        },
+        cameras: [
+            Pinhole {
+                eye: Vec3::new(-170.0, 6.0, -160.0),
+                target: Vec3::new(0.0, 10.0, 0.0),
+                fov: 70f32.to_radians(),
+            },
+            // From above a corner, down across the roofs.
+            Pinhole {
+                eye: Vec3::new(160.0, 90.0, 170.0),
+                target: Vec3::new(-20.0, 0.0, -10.0),
+                fov: 60f32.to_radians(),
+            },
+        ],
+        light: Vec3::new(120.0, 300.0, -80.0),
     }
 }
 
@@ -228,28 +260,140 @@ pub fn terrain(n: u32) -> SceneSet {
     };
     let tris = grid(n, n, p);
     let eye = Vec3::new(-480.0, 0.0, -480.0);
+    let high = Vec3::new(300.0, 0.0, -350.0);
     SceneSet {
         name: "terrain",
         tris,
         meshes: vec![0],
-        camera: Pinhole {
-            eye: eye + Vec3::Y * (height(eye.x, eye.z) + 8.0),
-            target: Vec3::new(200.0, 0.0, 250.0),
-            fov: 60f32.to_radians(),
-        },
+        cameras: [
+            Pinhole {
+                eye: eye + Vec3::Y * (height(eye.x, eye.z) + 8.0),
+                target: Vec3::new(200.0, 0.0, 250.0),
+                fov: 60f32.to_radians(),
+            },
+            // From a height, down over the valleys.
+            Pinhole {
+                eye: high + Vec3::Y * (height(high.x, high.z) + 120.0),
+                target: Vec3::new(-100.0, 0.0, 100.0),
+                fov: 60f32.to_radians(),
+            },
+        ],
+        // A low sun: long shadows across the valleys.
+        light: Vec3::new(2000.0, 350.0, -1500.0),
+    }
+}
+
+/// A scanned-like object: a lumpy blob of `2·n·(n/2)` small triangles, its vertices jittered like
+/// a scanner's noise, standing in a closed room of twelve triangles (`n = 640`: about 410 000).
+pub fn scanned(n: u32) -> SceneSet {
+    let mut jitter = stream(0x51_7CC1_B727_220A);
+    let rows = n / 2;
+    let mut noise = vec![0.0f32; ((n + 1) * (rows + 1)) as usize];
+    for x in &mut noise {
+        *x = jitter() - 0.5;
+    }
+    let p = |i: u32, j: u32| {
+        let (th, ph) = (
+            std::f32::consts::PI * j as f32 / rows as f32,
+            std::f32::consts::TAU * (i % n) as f32 / n as f32,
+        );
+        let dir = Vec3::new(th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin());
+        // Lobes, ridges and fine grain, then the scanner's noise (seam and poles shared).
+        let k = if j == 0 || j == rows {
+            0
+        } else {
+            j * n + (i % n)
+        };
+        let r = 1.0
+            + 0.25 * (3.0 * th).sin() * (2.0 * ph).cos()
+            + 0.08 * (11.0 * th + 1.0).sin() * (9.0 * ph).sin()
+            + 0.02 * (37.0 * th).cos() * (41.0 * ph + 0.5).sin()
+            + 0.002 * noise[k as usize];
+        Vec3::new(0.0, 1.3, 0.0) + dir * Vec3::new(1.0, 1.3, 0.8) * r
+    };
+    let mut tris = grid(n, rows, p);
+    // The room, faces inward: 8 × 4 × 8.
+    let (lo, hi) = (Vec3::new(-4.0, 0.0, -4.0), Vec3::new(4.0, 4.0, 4.0));
+    box_tris(
+        lo,
+        Vec3::X * (hi.x - lo.x),
+        Vec3::Y * (hi.y - lo.y),
+        Vec3::Z * (hi.z - lo.z),
+        &mut tris,
+    );
+    SceneSet {
+        name: "scanned mesh in a room",
+        tris,
+        meshes: vec![0],
+        cameras: [
+            Pinhole {
+                eye: Vec3::new(-3.2, 1.8, 3.0),
+                target: Vec3::new(0.0, 1.3, 0.0),
+                fov: 55f32.to_radians(),
+            },
+            // Close up, grazing along the surface.
+            Pinhole {
+                eye: Vec3::new(1.9, 0.4, -1.2),
+                target: Vec3::new(-0.5, 2.2, 0.6),
+                fov: 70f32.to_radians(),
+            },
+        ],
+        light: Vec3::new(1.5, 3.8, 2.0),
+    }
+}
+
+/// An open scene where most rays miss: 700 rocks (lumpy spheres of 576 triangles, 1 to 12
+/// across) scattered through a 240 × 240 field with no ground and nothing behind them (about
+/// 400 000 triangles).
+pub fn open_field() -> SceneSet {
+    let mut r = stream(0x2F4A_7C15_9E37_79B9);
+    let mut tris = vec![];
+    for _ in 0..700 {
+        let c = Vec3::new(240.0 * r() - 120.0, 30.0 * r() * r(), 240.0 * r() - 120.0);
+        let size = 0.5 + 5.5 * r() * r();
+        let (a, b) = (r() * 6.0, r() * 6.0);
+        let (n, rows) = (24, 12);
+        tris.extend(grid(n, rows, |i, j| {
+            let (th, ph) = (
+                std::f32::consts::PI * j as f32 / rows as f32,
+                std::f32::consts::TAU * (i % n) as f32 / n as f32,
+            );
+            let lump = 1.0 + 0.2 * (3.0 * th + a).sin() * (2.0 * ph + b).cos();
+            c + Vec3::new(th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin()) * size * lump
+        }));
+    }
+    SceneSet {
+        name: "open field",
+        tris,
+        meshes: vec![0],
+        cameras: [
+            Pinhole {
+                eye: Vec3::new(-150.0, 12.0, -30.0),
+                target: Vec3::new(0.0, 5.0, 0.0),
+                fov: 60f32.to_radians(),
+            },
+            // From above the field, down at a slant.
+            Pinhole {
+                eye: Vec3::new(40.0, 110.0, 180.0),
+                target: Vec3::new(0.0, 0.0, 0.0),
+                fov: 50f32.to_radians(),
+            },
+        ],
+        light: Vec3::new(500.0, 800.0, 300.0),
     }
 }
 
 impl SceneSet {
-    /// Primary rays in tiles of `tw`×`th` pixels (consecutive rays share a tile: coherent
-    /// packets of `tw·th`).
-    pub fn primary_tiled(&self, w: u32, h: u32, tw: u32, th: u32) -> Vec<Ray> {
+    /// Primary rays of camera `cam` (0 or 1) in tiles of `tw`×`th` pixels (consecutive rays share
+    /// a tile: coherent packets of `tw·th`).
+    pub fn primary_tiled(&self, cam: usize, w: u32, h: u32, tw: u32, th: u32) -> Vec<Ray> {
+        let camera = &self.cameras[cam];
         let mut out = Vec::with_capacity((w * h) as usize);
         for ty in (0..h).step_by(th as usize) {
             for tx in (0..w).step_by(tw as usize) {
                 for y in ty..(ty + th).min(h) {
                     for x in tx..(tx + tw).min(w) {
-                        out.push(self.camera.ray(x, y, w, h));
+                        out.push(camera.ray(x, y, w, h));
                     }
                 }
             }
@@ -265,31 +409,46 @@ impl SceneSet {
             .collect()
     }
 
+    /// Where `r` first hits (watertight tier through `bvh`): the hit point, its error bound and
+    /// the unit normal on the side `r` came from.
+    fn surface(&self, r: &Ray, bvh: &Bvh8<VertexTriangle>) -> Option<(Vec3, Vec3, Vec3)> {
+        let h = closest_ray::<f32x8, Watertight>(bvh.as_ref(), r)?;
+        let t = self.tris[h.prim as usize];
+        let (p, err) = octoray::shading::offset::triangle_hit_point(
+            &VertexTriangle::new(t[0], t[1], t[2]),
+            h.u,
+            h.v,
+        );
+        let n = (t[1] - t[0]).cross(t[2] - t[0]).normalize_or_zero();
+        Some((p, err, if n.dot(r.dir) > 0.0 { -n } else { n }))
+    }
+
+    /// One shadow ray per primary hit: from the hit point (offset off the surface, on the side
+    /// the ray came from) to the light, `t` in `[0, 1)` (the light itself not included); for the
+    /// occlusion rows.
+    pub fn shadow_rays(&self, primary: &[Ray], bvh: &Bvh8<VertexTriangle>) -> Vec<Ray> {
+        let mut out = Vec::with_capacity(primary.len());
+        for r in primary {
+            let Some((p, err, n)) = self.surface(r, bvh) else {
+                continue;
+            };
+            let o = octoray::shading::offset::offset_ray_origin(p, err, n, self.light - p);
+            let mut ray = Ray::new(o, self.light - o);
+            ray.t_max = 1.0 - f32::EPSILON;
+            out.push(ray);
+        }
+        out
+    }
+
     /// One diffuse bounce per primary hit: from the hit point (offset off the surface) in a
     /// cosine-weighted direction about the normal facing the ray (incoherent rays).
     pub fn diffuse_bounces(&self, primary: &[Ray], bvh: &Bvh8<VertexTriangle>) -> Vec<Ray> {
-        let mut seed = 0x2545_F491_4F6C_DD1Du64;
-        let mut rnd = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut rnd = stream(0x2545_F491_4F6C_DD1D);
         let mut out = Vec::with_capacity(primary.len());
         for r in primary {
-            let Some(h) = closest_ray::<f32x8, Watertight>(bvh.as_ref(), r) else {
+            let Some((p, err, n)) = self.surface(r, bvh) else {
                 continue;
             };
-            let t = self.tris[h.prim as usize];
-            let (p, err) = octoray::shading::offset::triangle_hit_point(
-                &VertexTriangle::new(t[0], t[1], t[2]),
-                h.u,
-                h.v,
-            );
-            let mut n = (t[1] - t[0]).cross(t[2] - t[0]).normalize_or_zero();
-            if n.dot(r.dir) > 0.0 {
-                n = -n;
-            }
             // Cosine-weighted: n plus a uniform point on the unit sphere.
             let z = rnd() * 2.0 - 1.0;
             let a = rnd() * std::f32::consts::TAU;

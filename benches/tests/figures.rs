@@ -69,6 +69,31 @@ fn readme_scene_rows_are_the_scene_report() {
 }
 
 #[test]
+fn scene_chart_covers_every_scene_of_the_report() {
+    // `benches/scenes.svg` is drawn by the same run as `benches/scenes.md`: a panel per scene
+    // section ("### <name> (<n> triangles; ..."), each named by its caption.
+    let md = std::fs::read_to_string(root().join("benches/scenes.md")).expect("scenes.md");
+    let svg = std::fs::read_to_string(root().join("benches/scenes.svg")).expect("scenes.svg");
+    let scenes: Vec<&str> = md
+        .lines()
+        .filter_map(|l| l.strip_prefix("### "))
+        .filter(|l| l.contains(" triangles; "))
+        .filter_map(|l| l.split(" (").next())
+        .collect();
+    assert!(scenes.len() >= 6, "scene sections: {scenes:?}");
+    for name in scenes {
+        assert!(
+            svg.lines().any(|l| l.trim() == name),
+            "benches/scenes.svg has no panel for {name}: rerun the scene report"
+        );
+    }
+    assert!(
+        marked("README.md", "scenes-chart").contains("benches/scenes.svg"),
+        "the README shows the scene chart"
+    );
+}
+
+#[test]
 fn readme_microcontroller_figures_are_the_report() {
     // The README's Cortex-M table is the block `bash .ci/cortex-m.sh --report` writes.
     let report = marked("benches/cortex-m.md", "cortex-m");

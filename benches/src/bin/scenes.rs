@@ -19,10 +19,11 @@ use octoray_benches::instancing::{
     alpha, field, flatten, instanced, restart_closest, scene_of, scene_packets_closest,
     scene_singles_any, scene_singles_closest, wave, Layout,
 };
+use octoray_benches::scene_chart::{self, Rates};
 use octoray_benches::scene_peers::{BvhScene, ObvhsScene, TinyBvhScene};
 use octoray_benches::scenes::{
-    batch_closest, city, jittered_sphere, packets_any, packets_closest, singles_any,
-    singles_closest, sponza, terrain, SceneSet,
+    batch_closest, city, jittered_sphere, open_field, packets_any, packets_closest, scanned,
+    singles_any, singles_closest, sponza, terrain, SceneSet,
 };
 use rayon::prelude::*;
 use std::fmt::Write as _;
@@ -101,7 +102,7 @@ fn flags() -> &'static str {
     }
 }
 
-fn report(s: &SceneSet, runs: usize, md: &mut String) {
+fn report(s: &SceneSet, runs: usize, md: &mut String) -> Rates {
     let (w, h) = (1024u32, 768u32);
     let verts = s.vertex_tris();
     let packed: Vec<PackedTriangle> = s
@@ -126,17 +127,20 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
         )
     });
     let own_sah = sah_terms(wt.nodes());
-    let p8 = s.primary_tiled(w, h, 4, 2);
-    let p16 = s.primary_tiled(w, h, 4, 4);
+    let p8 = s.primary_tiled(0, w, h, 4, 2);
+    let p16 = s.primary_tiled(0, w, h, 4, 4);
+    let second = s.primary_tiled(1, w, h, 4, 2);
     let bounce = s.diffuse_bounces(&p8, &wt);
+    let shadow = s.shadow_rays(&p8, &wt);
     let (wr, sr) = (wt.as_ref(), st.as_ref());
     writeln!(
         md,
-        "\n### {} ({} triangles; {} primary rays at {w}×{h}, {} diffuse-bounce rays)\n",
+        "\n### {} ({} triangles; {} primary rays at {w}×{h} from each of two cameras, {} diffuse-bounce rays and {} shadow rays from the first camera's hits)\n",
         s.name,
         s.tris.len(),
         p8.len(),
-        bounce.len()
+        bounce.len(),
+        shadow.len()
     )
     .unwrap();
     writeln!(
@@ -256,6 +260,46 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
         bounce.len(),
         &mut || singles_any::<f32x8, Watertight>(wr, &bounce),
     );
+    row(
+        "primary (camera 2)",
+        "closest",
+        "packet-8 (4×2 tiles)",
+        "watertight",
+        second.len(),
+        &mut || packets_closest::<f32x8, Watertight>(wr, &second),
+    );
+    row(
+        "primary (camera 2)",
+        "closest",
+        "single ray",
+        "watertight",
+        second.len(),
+        &mut || singles_closest::<f32x8, Watertight>(wr, &second),
+    );
+    row(
+        "primary (camera 2)",
+        "closest",
+        "single ray",
+        "standard",
+        second.len(),
+        &mut || singles_closest::<f32x8, MollerTrumbore>(sr, &second),
+    );
+    row(
+        "shadow",
+        "any",
+        "packet-8",
+        "watertight",
+        shadow.len(),
+        &mut || packets_any::<f32x8, Watertight>(wr, &shadow),
+    );
+    row(
+        "shadow",
+        "any",
+        "single ray",
+        "watertight",
+        shadow.len(),
+        &mut || singles_any::<f32x8, Watertight>(wr, &shadow),
+    );
     // The watertight tier on the tree with spatial splits.
     let spatial =
         || Bvh8::try_build_options(&verts, BuildOptions::SPATIAL, &Sequential).expect("build");
@@ -290,6 +334,22 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
         bounce.len(),
         &mut || singles_closest::<f32x8, Watertight>(wsr, &bounce),
     );
+    row(
+        "primary (camera 2)",
+        "closest",
+        "single ray",
+        tier,
+        second.len(),
+        &mut || singles_closest::<f32x8, Watertight>(wsr, &second),
+    );
+    row(
+        "shadow",
+        "any",
+        "single ray",
+        tier,
+        shadow.len(),
+        &mut || singles_any::<f32x8, Watertight>(wsr, &shadow),
+    );
     // Peers, same rays, same run.
     let (ob, ob_build) = ObvhsScene::build(&s.tris);
     let (bv, bv_build) = BvhScene::build(&s.tris);
@@ -316,6 +376,22 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
         "obvhs 0.4 (CWBVH)",
         bounce.len(),
         &mut || ob.closest(&bounce),
+    );
+    row(
+        "primary (camera 2)",
+        "closest",
+        "single ray",
+        "obvhs 0.4 (CWBVH)",
+        second.len(),
+        &mut || ob.closest(&second),
+    );
+    row(
+        "shadow",
+        "any",
+        "single ray",
+        "obvhs 0.4 (CWBVH)",
+        shadow.len(),
+        &mut || ob.any(&shadow),
     );
     row(
         "primary",
@@ -371,6 +447,23 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
                     bounce.len(),
                     &mut || tb.closest(&bounce),
                 );
+                row(
+                    "primary (camera 2)",
+                    "closest",
+                    "single ray",
+                    name,
+                    second.len(),
+                    &mut || tb.closest(&second),
+                );
+                // The wrapper has no occlusion query: its closest hit within the segment.
+                row(
+                    "shadow",
+                    "closest (no occlusion query)",
+                    "single ray",
+                    name,
+                    shadow.len(),
+                    &mut || tb.closest(&shadow),
+                );
             }
             Err(e) => {
                 writeln!(md_peers, "tinybvh rows skipped: {e}.").unwrap();
@@ -423,6 +516,38 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
                     &name,
                     bounce.len(),
                     &mut || em.closest1(&bounce),
+                );
+                row(
+                    "primary (camera 2)",
+                    "closest",
+                    "packet-8 (rtcIntersect8)",
+                    &name,
+                    second.len(),
+                    &mut || em.closest8(&second),
+                );
+                row(
+                    "primary (camera 2)",
+                    "closest",
+                    "single ray (rtcIntersect1)",
+                    &name,
+                    second.len(),
+                    &mut || em.closest1(&second),
+                );
+                row(
+                    "shadow",
+                    "any",
+                    "packet-8 (rtcOccluded8)",
+                    &name,
+                    shadow.len(),
+                    &mut || em.any8(&shadow),
+                );
+                row(
+                    "shadow",
+                    "any",
+                    "single ray (rtcOccluded1)",
+                    &name,
+                    shadow.len(),
+                    &mut || em.any1(&shadow),
                 );
             }
             Err(e) => {
@@ -537,6 +662,41 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
             "diffuse bounce|closest|single ray|tinybvh 1.6.8 (BVH8_CPU, BuildHQ: spatial splits)",
         ),
         (
+            "camera 2 single ray ≥ 1.2× Embree robust rtcIntersect1",
+            "primary (camera 2)|closest|single ray|watertight",
+            "primary (camera 2)|closest|single ray (rtcIntersect1)|Embree 3 robust",
+        ),
+        (
+            "camera 2 packet-8 ≥ 1.2× Embree robust rtcIntersect8",
+            "primary (camera 2)|closest|packet-8 (4×2 tiles)|watertight",
+            "primary (camera 2)|closest|packet-8 (rtcIntersect8)|Embree 3 robust",
+        ),
+        (
+            "shadow single ray ≥ 1.2× Embree robust rtcOccluded1",
+            "shadow|any|single ray|watertight",
+            "shadow|any|single ray (rtcOccluded1)|Embree 3 robust",
+        ),
+        (
+            "camera 2 single ray ≥ tinybvh BVH8_CPU (BuildHQ)",
+            "primary (camera 2)|closest|single ray|watertight",
+            "primary (camera 2)|closest|single ray|tinybvh 1.6.8 (BVH8_CPU, BuildHQ: spatial splits)",
+        ),
+        (
+            "camera 2 single ray ≥ 1.2× Embree robust rtcIntersect1, spatial splits",
+            "primary (camera 2)|closest|single ray|watertight, spatial splits",
+            "primary (camera 2)|closest|single ray (rtcIntersect1)|Embree 3 robust",
+        ),
+        (
+            "shadow single ray ≥ 1.2× Embree robust rtcOccluded1, spatial splits",
+            "shadow|any|single ray|watertight, spatial splits",
+            "shadow|any|single ray (rtcOccluded1)|Embree 3 robust",
+        ),
+        (
+            "camera 2 single ray ≥ tinybvh BVH8_CPU (BuildHQ), spatial splits",
+            "primary (camera 2)|closest|single ray|watertight, spatial splits",
+            "primary (camera 2)|closest|single ray|tinybvh 1.6.8 (BVH8_CPU, BuildHQ: spatial splits)",
+        ),
+        (
             "primary single ray ≥ 2× obvhs",
             "primary|closest|single ray (leaves ×8)|watertight",
             "primary|closest|single ray|obvhs 0.4 (CWBVH)",
@@ -551,6 +711,11 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
             "diffuse bounce|closest|single ray|watertight",
             "diffuse bounce|closest|single ray|obvhs 0.4 (CWBVH)",
         ),
+        (
+            "shadow single ray ≥ 2× obvhs",
+            "shadow|any|single ray|watertight",
+            "shadow|any|single ray|obvhs 0.4 (CWBVH)",
+        ),
     ] {
         let show = |k: &str| k.replace('|', ", ");
         writeln!(
@@ -562,6 +727,7 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) {
         )
         .unwrap();
     }
+    rates
 }
 
 /// One row of a comparison table: `f` timed over `n` rays; returns Mrays/s and hits.
@@ -593,7 +759,7 @@ fn scene_model_report(s: &SceneSet, runs: usize, md: &mut String) {
     let (w, h) = (1024u32, 768u32);
     let verts = s.vertex_tris();
     let tree = Bvh8::build(&verts);
-    let p8 = s.primary_tiled(w, h, 4, 2);
+    let p8 = s.primary_tiled(0, w, h, 4, 2);
     let bounce = s.diffuse_bounces(&p8, &tree);
     let one = scene_of(s, Layout::OneGeometry);
     let many = scene_of(s, Layout::MeshesOneTree);
@@ -811,7 +977,8 @@ fn instancing_report(runs: usize, md: &mut String) {
         name: "instanced field (flattened)",
         tris: flatten(&mesh, &places),
         meshes: vec![0],
-        camera,
+        cameras: [camera; 2],
+        light: glam::Vec3::new(0.0, 1e3, 0.0),
     };
     let (w, h) = (1024u32, 768u32);
     let t0 = Instant::now();
@@ -820,7 +987,7 @@ fn instancing_report(runs: usize, md: &mut String) {
     let t0 = Instant::now();
     let tree = Bvh8::build(&flat.vertex_tris());
     let flat_build = t0.elapsed().as_secs_f64();
-    let p8 = flat.primary_tiled(w, h, 4, 2);
+    let p8 = flat.primary_tiled(0, w, h, 4, 2);
     let bounce = flat.diffuse_bounces(&p8, &tree);
     writeln!(
         md,
@@ -913,9 +1080,10 @@ fn main() {
     )
     .unwrap();
     let scene_model = !std::env::args().any(|a| a == "--no-scene-model");
+    let mut charted = vec![];
     match sponza() {
         Ok(s) => {
-            report(&s, runs, &mut md);
+            charted.push((s.name.to_string(), report(&s, runs, &mut md)));
             if scene_model {
                 scene_model_report(&s, runs, &mut md);
             }
@@ -927,13 +1095,24 @@ fn main() {
     }
     if !std::env::args().any(|a| a == "--sponza") {
         // Generated scenes of other kinds: no downloads, the same triangles on every machine.
-        for s in [jittered_sphere(1024), city(), terrain(708)] {
-            report(&s, runs, &mut md);
+        for make in [
+            || jittered_sphere(1024),
+            city,
+            || terrain(708),
+            || scanned(640),
+            open_field,
+        ] {
+            let s = make();
+            charted.push((s.name.to_string(), report(&s, runs, &mut md)));
         }
     }
     print!("{md}");
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes.md");
     if let Err(e) = std::fs::write(path, &md) {
         eprintln!("cannot write {path}: {e}");
+    }
+    let svg = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes.svg");
+    if let Err(e) = scene_chart::draw(&charted, &format!("{}, {}", machine(), flags()), svg) {
+        eprintln!("cannot draw {svg}: {e}");
     }
 }

@@ -1,0 +1,122 @@
+//! One row of the scene report, run once, for instruction and branch counts per ray under
+//! `valgrind --tool=cachegrind --branch-sim=yes` (or `perf stat`):
+//!
+//! ```text
+//! cargo build --release -p octoray-benches --bin profile
+//! valgrind --tool=callgrind --branch-sim=yes --toggle-collect='*profile::traced*' \
+//!     target/release/profile <scene> <rays> <system>
+//! ```
+//!
+//! `scene`: sponza, sphere, city, terrain, scanned, open. `rays`: primary, camera2, bounce,
+//! shadow (256×256 pixels from the scene's camera; bounces and shadow rays from the first
+//! camera's hits). `system`: watertight, spatial (the watertight tier on the spatial-split
+//! tree), standard, tinybvh (BVH8_CPU from BuildHQ; the `tinybvh` feature), embree-robust,
+//! embree-fast, obvhs. Closest hit, except shadow rays: occlusion (tinybvh: closest hit, it has
+//! no occlusion query). Only [`traced`] runs the rays: counting inside it alone (callgrind's
+//! `--toggle-collect`) leaves out the scene, the trees and the rays' generation; divide by the
+//! ray count printed.
+
+use octoray::bvh::{BuildOptions, Bvh8, Sequential};
+use octoray::kernels::{MollerTrumbore, Watertight};
+use octoray::prim::PackedTriangle;
+use octoray_benches::embree::EmbreeScene;
+use octoray_benches::scene_peers::{ObvhsScene, TinyBvhScene};
+use octoray_benches::scenes::{
+    city, jittered_sphere, open_field, scanned, singles_any, singles_closest, sponza, terrain,
+};
+use wide::f32x8;
+
+fn main() -> Result<(), String> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let usage = "usage: profile <sponza|sphere|city|terrain|scanned|open> <primary|camera2|bounce|shadow> <watertight|spatial|standard|tinybvh|embree-robust|embree-fast|obvhs>";
+    let [scene, rays, system] = args.as_slice() else {
+        return Err(usage.into());
+    };
+    let s = match scene.as_str() {
+        "sponza" => sponza()?,
+        "sphere" => jittered_sphere(1024),
+        "city" => city(),
+        "terrain" => terrain(708),
+        "scanned" => scanned(640),
+        "open" => open_field(),
+        _ => return Err(usage.into()),
+    };
+    let verts = s.vertex_tris();
+    let binned = Bvh8::build(&verts);
+    let primary = s.primary_tiled(0, 256, 256, 4, 2);
+    let rays = match rays.as_str() {
+        "primary" => primary,
+        "camera2" => s.primary_tiled(1, 256, 256, 4, 2),
+        "bounce" => s.diffuse_bounces(&primary, &binned),
+        "shadow" => s.shadow_rays(&primary, &binned),
+        _ => return Err(usage.into()),
+    };
+    let any = args[1] == "shadow";
+    let hits = match system.as_str() {
+        "watertight" | "spatial" => {
+            let tree = if system == "spatial" {
+                Bvh8::try_build_options(&verts, BuildOptions::SPATIAL, &Sequential)
+                    .map_err(|e| format!("{e:?}"))?
+            } else {
+                binned
+            };
+            let r = tree.as_ref();
+            traced(&|| {
+                if any {
+                    singles_any::<f32x8, Watertight>(r, &rays)
+                } else {
+                    singles_closest::<f32x8, Watertight>(r, &rays)
+                }
+            })
+        }
+        "standard" => {
+            let packed: Vec<PackedTriangle> = s
+                .tris
+                .iter()
+                .map(|t| PackedTriangle::new(t[0], t[1], t[2]))
+                .collect();
+            let tree = Bvh8::build(&packed);
+            let r = tree.as_ref();
+            traced(&|| {
+                if any {
+                    singles_any::<f32x8, MollerTrumbore>(r, &rays)
+                } else {
+                    singles_closest::<f32x8, MollerTrumbore>(r, &rays)
+                }
+            })
+        }
+        "tinybvh" => {
+            let (tb, _) = TinyBvhScene::build(&s.tris, true)?;
+            traced(&|| tb.closest(&rays))
+        }
+        "embree-robust" | "embree-fast" => {
+            let (em, _) = EmbreeScene::build(&s.tris, system == "embree-robust")?;
+            traced(&|| {
+                if any {
+                    em.any1(&rays)
+                } else {
+                    em.closest1(&rays)
+                }
+            })
+        }
+        "obvhs" => {
+            let (ob, _) = ObvhsScene::build(&s.tris);
+            traced(&|| {
+                if any {
+                    ob.any(&rays)
+                } else {
+                    ob.closest(&rays)
+                }
+            })
+        }
+        _ => return Err(usage.into()),
+    };
+    println!("{} rays, {hits} hits", rays.len());
+    Ok(())
+}
+
+/// The traversal of every ray, and nothing else: what the counts are taken over.
+#[inline(never)]
+fn traced(f: &dyn Fn() -> u64) -> u64 {
+    f()
+}
