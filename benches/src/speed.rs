@@ -1,6 +1,7 @@
 //! Every speed entry (our kernels at each tier and width, and the peers), runnable on a prepared
 //! workload: the one list the criterion benches, the cycle counts and the trade report share.
 
+use crate::candidates::{self, PlaneTriangle};
 use crate::peers;
 use crate::workload::Workload;
 use glam::Vec3A;
@@ -19,6 +20,7 @@ pub struct Prepared {
     pub w: Workload,
     pub packed: Vec<PackedTriangle>,
     pub vertex: Vec<VertexTriangle>,
+    pub planes: Vec<PlaneTriangle>,
     pub spheres: Vec<PackedSphere>,
     pub glam: Vec<[Vec3A; 3]>,
     pub uv_rays: Vec<(ultraviolet::Vec3x8, ultraviolet::Vec3x8)>,
@@ -33,6 +35,7 @@ impl Prepared {
         Self {
             packed: w.packed(),
             vertex: w.vertex(),
+            planes: w.tris.iter().map(|t| PlaneTriangle::new(*t)).collect(),
             spheres: w.packed_spheres(),
             glam: peers::glam_tris(&w.tris),
             uv_rays: peers::uv_packets(&w.rays),
@@ -311,6 +314,20 @@ pub fn entries() -> Vec<Entry> {
             Closest,
             false,
             |p| peers::uv_closest(&p.uv_rays, &p.uv_tris)
+        ),
+        e!(
+            "candidate: Havel-Herout planes x8 closest-t",
+            Triangle,
+            Closest,
+            true,
+            |p| candidates::count_closest::<f32x8>(&p.w.rays, &p.planes, candidates::havel_herout)
+        ),
+        e!(
+            "candidate: Baldwin-Weber transform x8 closest-t",
+            Triangle,
+            Closest,
+            true,
+            |p| candidates::count_closest::<f32x8>(&p.w.rays, &p.planes, candidates::baldwin_weber)
         ),
         e!("peer: obvhs", Triangle, Closest, false, |p| {
             peers::obvhs_closest(&p.w.rays, &p.obvhs)

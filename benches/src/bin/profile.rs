@@ -7,12 +7,12 @@
 //!     target/release/profile <scene> <rays> <system>
 //! ```
 //!
-//! `scene`: sponza, sphere, city, terrain, scanned, open. `rays`: primary, camera2, bounce,
-//! shadow (256×256 pixels from the scene's camera; bounces and shadow rays from the first
-//! camera's hits). `system`: watertight, spatial (the watertight tier on the spatial-split
+//! `scene`: sponza, sphere, city, terrain, scanned, open. `rays`: primary, primary-any (the
+//! same rays, occlusion), camera2, bounce, shadow (256×256 pixels from the scene's camera;
+//! bounces and shadow rays from the first camera's hits). `system`: watertight, spatial (the watertight tier on the spatial-split
 //! tree), standard, tinybvh (BVH8_CPU from BuildHQ; the `tinybvh` feature), embree-robust,
-//! embree-fast, obvhs. Closest hit, except shadow rays: occlusion (tinybvh: closest hit, it has
-//! no occlusion query). Only [`traced`] runs the rays: counting inside it alone (callgrind's
+//! embree-fast, obvhs. Closest hit, except primary-any and shadow rays: occlusion (tinybvh:
+//! closest hit, it has no occlusion query). Only [`traced`] runs the rays: counting inside it alone (callgrind's
 //! `--toggle-collect`) leaves out the scene, the trees and the rays' generation; divide by the
 //! ray count printed.
 
@@ -28,7 +28,7 @@ use wide::f32x8;
 
 fn main() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let usage = "usage: profile <sponza|sphere|city|terrain|scanned|open> <primary|camera2|bounce|shadow> <watertight|spatial|standard|tinybvh|embree-robust|embree-fast|obvhs>";
+    let usage = "usage: profile <sponza|sphere|city|terrain|scanned|open> <primary|primary-any|camera2|bounce|shadow> <watertight|spatial|standard|tinybvh|embree-robust|embree-fast|obvhs>";
     let [scene, rays, system] = args.as_slice() else {
         return Err(usage.into());
     };
@@ -45,13 +45,13 @@ fn main() -> Result<(), String> {
     let binned = Bvh8::build(&verts);
     let primary = s.primary_tiled(0, 256, 256, 4, 2);
     let rays = match rays.as_str() {
-        "primary" => primary,
+        "primary" | "primary-any" => primary,
         "camera2" => s.primary_tiled(1, 256, 256, 4, 2),
         "bounce" => s.diffuse_bounces(&primary, &binned),
         "shadow" => s.shadow_rays(&primary, &binned),
         _ => return Err(usage.into()),
     };
-    let any = args[1] == "shadow";
+    let any = matches!(args[1].as_str(), "shadow" | "primary-any");
     let hits = match system.as_str() {
         "watertight" | "spatial" => {
             let tree = if system == "spatial" {

@@ -15,6 +15,7 @@ use octoray::hit::Hit;
 use octoray::intersect;
 use octoray::kernels::{Exact, Watertight};
 use octoray::prim::{Ray, RayLanes, VertexTriangle};
+use octoray_benches::candidates::{self, Test};
 use octoray_benches::peers::TrianglePeer;
 use octoray_benches::report::{self, Report};
 use octoray_benches::speed::{entry, Prepared};
@@ -47,6 +48,8 @@ struct Row {
 
 enum Accuracy {
     Ours(TriTier),
+    /// A candidate layout's test (`octoray_benches::candidates`) at its scalar twin.
+    Candidate(Test<f32>),
     Peer(TrianglePeer),
 }
 
@@ -109,6 +112,16 @@ fn rows() -> Vec<Row> {
             accuracy: Ours(TriTier::F64),
         },
         Row {
+            name: "candidate: Havel-Herout, 8 lanes, t only",
+            entry: "candidate: Havel-Herout planes x8 closest-t",
+            accuracy: Candidate(candidates::havel_herout),
+        },
+        Row {
+            name: "candidate: Baldwin-Weber, 8 lanes, t only",
+            entry: "candidate: Baldwin-Weber transform x8 closest-t",
+            accuracy: Candidate(candidates::baldwin_weber),
+        },
+        Row {
             name: "peer: glam MT (scalar, by hand)",
             entry: "peer: glam MT scalar",
             accuracy: Peer(TrianglePeer::Glam),
@@ -140,6 +153,7 @@ impl Row {
     fn test(&self, ray: &Ray, tri: [Vec3; 3]) -> Option<f32> {
         match self.accuracy {
             Accuracy::Ours(t) => t.run(&TriCase { ray: *ray, v: tri }).map(|h| h.t),
+            Accuracy::Candidate(test) => candidates::single(ray, tri, test),
             Accuracy::Peer(p) => p.test(ray, tri),
         }
     }
@@ -147,6 +161,7 @@ impl Row {
     fn packed(&self) -> bool {
         match self.accuracy {
             Accuracy::Ours(t) => t.packed(),
+            Accuracy::Candidate(_) => false,
             Accuracy::Peer(p) => matches!(p, TrianglePeer::Glam | TrianglePeer::Ultraviolet),
         }
     }

@@ -42,13 +42,15 @@
 //!   through the Sponza tree (cachegrind, x86-64-v3).
 //! - **Barycentrics:** on filter lanes the watertight tier's (signs certified, so in `[0, 1]`);
 //!   past the filter, the exact ones to f64 precision, rounded.
-//! - **Cost:** the filter's certificates on every test: 3.354 (report: `exact, 8 lanes`, ns/test)
-//!   against the watertight tier's 2.662 (report: `watertight, 8 lanes`, ns/test) on the trade
-//!   workload, measured before `t` became the f64 plane distance, which adds its evaluation on
-//!   every lane that hits: about 3× per test on that workload, where half the tests hit. Per ray family (the report's second table, one ray and one triangle per call):
-//!   1.0× the watertight tier on random and translated rays, 1.1–1.3× grazing, ~4× on thin
-//!   triangles, ~10× on rays aimed exactly at vertices and edges, where every test leaves the
-//!   filter and a fifth of them (exact ties) reach the integer stage.
+//! - **Cost:** the filter's certificates on every test, and the f64 plane distance on every lane
+//!   that hits: 11.944 (report: `exact, 8 lanes`, ns/test) against the watertight tier's
+//!   3.008 (report: `watertight, 8 lanes`, ns/test) on the trade workload, where half the tests hit
+//!   (through a tree, where few tests hit, +10–16 % instructions per ray). Per ray family (the
+//!   report's second table, one ray and one triangle per call): 1.0× the watertight tier on
+//!   random and translated rays, 1.2× at 1e-3 rad, ~10× at 1e-5 rad and on rays aimed exactly at
+//!   vertices and edges (every test leaves the filter, a fifth of them, exact ties, reach the
+//!   integer stage), ~20× on thin triangles, where the watertight tier keeps its plane distance
+//!   and the exact tier decides every edge past the filter.
 //! - Bit-identical across `f32` and `f32x4/x8/x16` and across builds (proptested, digest): the
 //!   fallback is scalar f64 and integer arithmetic with no FMA.
 //! - Closest-hit queries give the exact tier the caller's `t_max` ([`crate::kernels::Kernel::EXACT_T_MAX`])
