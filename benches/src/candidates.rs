@@ -12,7 +12,10 @@
 //!   an affine map taking the triangle to the unit triangle in `z = 0`; origin and direction are
 //!   mapped, `t` divided first, the barycentrics formed from it.
 //!
-//! Both are generic over octoray's lanes (`L = f32` is the scalar twin the accuracy columns use)
+//! - [`baldwin_weber_v0`]: the same on [`FrameTriangle`], relative to `v0` (its rounding then
+//!   scales with `|o − v0|`, as Möller-Trumbore's does, not with `|o|` and `|v0|`).
+//!
+//! All are generic over octoray's lanes (`L = f32` is the scalar twin the accuracy columns use)
 //! and keep what the tiers' contract asks of every hit: an active lane, `t` finite and in
 //! `[t_min, t_max]`, a miss on a zero-area triangle (its planes are NaN). Neither has the standard
 //! tier's determinant-noise bound, so rays within rounding of the plane can report hits.
@@ -76,6 +79,43 @@ impl PlaneTriangle {
             )
         };
         [plane(&self.n), plane(&self.b1), plane(&self.b2)]
+    }
+}
+
+/// A triangle as `v0` and three directions (12 floats): the unit normal and the two vectors
+/// whose dot products with `p − v0` are the barycentric weights of `v1` and `v2` at a point `p`
+/// of the plane (the rows of `[e1 e2 n]⁻¹`). [`PlaneTriangle`]'s planes with their offsets left
+/// out: evaluated at `o − v0`, not at `o`, so their rounding is relative to the triangle.
+/// Formed in f64 and rounded once; all NaN for a degenerate triangle.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrameTriangle {
+    /// First vertex.
+    pub v0: [f32; 3],
+    /// Unit normal.
+    pub n: [f32; 3],
+    /// `(e2 × n)/|n|²`.
+    pub b1: [f32; 3],
+    /// `(n × e1)/|n|²`.
+    pub b2: [f32; 3],
+}
+
+impl From<[Vec3; 3]> for FrameTriangle {
+    fn from(v: [Vec3; 3]) -> Self {
+        let p = PlaneTriangle::new(v);
+        let xyz = |r: [f32; 4]| [r[0], r[1], r[2]];
+        let nan = p.n[0].is_nan();
+        Self {
+            v0: if nan { [f32::NAN; 3] } else { v[0].to_array() },
+            n: xyz(p.n),
+            b1: xyz(p.b1),
+            b2: xyz(p.b2),
+        }
+    }
+}
+
+impl From<[Vec3; 3]> for PlaneTriangle {
+    fn from(v: [Vec3; 3]) -> Self {
+        Self::new(v)
     }
 }
 
@@ -143,23 +183,42 @@ pub fn baldwin_weber<L: Lanes>(ray: &RayLanes<L>, tri: &PlaneTriangle) -> LanesH
     }
 }
 
+/// Baldwin-Weber relative to `v0`: the same steps on `o − v0`, three subtractions more.
+#[inline(always)]
+pub fn baldwin_weber_v0<L: Lanes>(ray: &RayLanes<L>, tri: &FrameTriangle) -> LanesHit<L> {
+    let v3 = |p: [f32; 3]| V3::<L>::new(L::splat(p[0]), L::splat(p[1]), L::splat(p[2]));
+    let (v0, n, b1, b2) = (v3(tri.v0), v3(tri.n), v3(tri.b1), v3(tri.b2));
+    let (s, d) = (ray.origin - v0, ray.dir);
+    let t = -n.dot(s) / n.dot(d) + L::zero();
+    let mask = ray.active & in_range(ray, t);
+    if mask.none() {
+        return LanesHit::miss(mask);
+    }
+    let u = b1.dot(s) + t * b1.dot(d);
+    let v = b2.dot(s) + t * b2.dot(d);
+    let zero = L::zero();
+    LanesHit {
+        mask: mask & u.ge(zero) & v.ge(zero) & (u + v).le(L::splat(1.0)),
+        t,
+        u,
+        v,
+        scale: L::splat(1.0),
+    }
+}
+
 /// `t` finite and in `[t_min, t_max]` (the check every tier's hits pass).
 #[inline(always)]
 fn in_range<L: Lanes>(ray: &RayLanes<L>, t: L) -> L::Mask {
     t.le(L::splat(f32::MAX)) & t.ge(L::splat(-f32::MAX)) & t.ge(ray.t_min) & t.le(ray.t_max)
 }
 
-/// A candidate's test of the lanes of a ray against one triangle.
-pub type Test<L> = fn(&RayLanes<L>, &PlaneTriangle) -> LanesHit<L>;
+/// A candidate's test of the lanes of a ray against one triangle of layout `P`.
+pub type Test<L, P> = fn(&RayLanes<L>, &P) -> LanesHit<L>;
 
 /// The nearest `t` per lane over `tris` with `test` (`octoray::query::closest_t`'s loop: the
 /// running best lowers `t_max` to its loosened `t`). Returns the lanes that hit and their `t`.
 #[inline(always)]
-pub fn closest_t<L: Lanes>(
-    ray: &RayLanes<L>,
-    tris: &[PlaneTriangle],
-    test: Test<L>,
-) -> (L::Mask, L) {
+pub fn closest_t<L: Lanes, P>(ray: &RayLanes<L>, tris: &[P], test: Test<L, P>) -> (L::Mask, L) {
     let t_max = ray.t_max;
     let mut ray = *ray;
     let mut found = L::first_lanes(0);
@@ -176,8 +235,8 @@ pub fn closest_t<L: Lanes>(
     (found, t)
 }
 
-/// Rays that hit over 8-ray packets, closest `t` only: what the speed entries time.
-pub fn count_closest<L: Lanes>(rays: &[Ray], tris: &[PlaneTriangle], test: Test<L>) -> u32 {
+/// Rays that hit, over packets of `L::LANES` rays, closest `t` only: what the speed entries time.
+pub fn count_closest<L: Lanes, P>(rays: &[Ray], tris: &[P], test: Test<L, P>) -> u32 {
     rays.chunks(L::LANES)
         .map(|c| {
             closest_t(&RayLanes::<L>::load(c), tris, test)
@@ -189,7 +248,7 @@ pub fn count_closest<L: Lanes>(rays: &[Ray], tris: &[PlaneTriangle], test: Test<
 }
 
 /// One ray against one triangle with `test` at `L = f32`: `t` of a hit (for the oracle).
-pub fn single(ray: &Ray, tri: [Vec3; 3], test: Test<f32>) -> Option<f32> {
-    let h = test(&RayLanes::<f32>::single(ray), &PlaneTriangle::new(tri));
+pub fn single<P: From<[Vec3; 3]>>(ray: &Ray, tri: [Vec3; 3], test: Test<f32, P>) -> Option<f32> {
+    let h = test(&RayLanes::<f32>::single(ray), &P::from(tri));
     h.mask.then_some(h.t)
 }

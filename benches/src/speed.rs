@@ -1,7 +1,7 @@
 //! Every speed entry (our kernels at each tier and width, and the peers), runnable on a prepared
 //! workload: the one list the criterion benches, the cycle counts and the trade report share.
 
-use crate::candidates::{self, PlaneTriangle};
+use crate::candidates::{self, FrameTriangle, PlaneTriangle};
 use crate::peers;
 use crate::workload::Workload;
 use glam::Vec3A;
@@ -21,6 +21,7 @@ pub struct Prepared {
     pub packed: Vec<PackedTriangle>,
     pub vertex: Vec<VertexTriangle>,
     pub planes: Vec<PlaneTriangle>,
+    pub frames: Vec<FrameTriangle>,
     pub spheres: Vec<PackedSphere>,
     pub glam: Vec<[Vec3A; 3]>,
     pub uv_rays: Vec<(ultraviolet::Vec3x8, ultraviolet::Vec3x8)>,
@@ -36,6 +37,7 @@ impl Prepared {
             packed: w.packed(),
             vertex: w.vertex(),
             planes: w.tris.iter().map(|t| PlaneTriangle::new(*t)).collect(),
+            frames: w.tris.iter().map(|t| FrameTriangle::from(*t)).collect(),
             spheres: w.packed_spheres(),
             glam: peers::glam_tris(&w.tris),
             uv_rays: peers::uv_packets(&w.rays),
@@ -320,14 +322,33 @@ pub fn entries() -> Vec<Entry> {
             Triangle,
             Closest,
             true,
-            |p| candidates::count_closest::<f32x8>(&p.w.rays, &p.planes, candidates::havel_herout)
+            |p| candidates::count_closest::<f32x8, _>(
+                &p.w.rays,
+                &p.planes,
+                candidates::havel_herout
+            )
         ),
         e!(
             "candidate: Baldwin-Weber transform x8 closest-t",
             Triangle,
             Closest,
             true,
-            |p| candidates::count_closest::<f32x8>(&p.w.rays, &p.planes, candidates::baldwin_weber)
+            |p| candidates::count_closest::<f32x8, _>(
+                &p.w.rays,
+                &p.planes,
+                candidates::baldwin_weber
+            )
+        ),
+        e!(
+            "candidate: Baldwin-Weber at v0 x8 closest-t",
+            Triangle,
+            Closest,
+            true,
+            |p| candidates::count_closest::<f32x8, _>(
+                &p.w.rays,
+                &p.frames,
+                candidates::baldwin_weber_v0
+            )
         ),
         e!("peer: obvhs", Triangle, Closest, false, |p| {
             peers::obvhs_closest(&p.w.rays, &p.obvhs)

@@ -15,7 +15,7 @@ use octoray::hit::Hit;
 use octoray::intersect;
 use octoray::kernels::{Exact, Watertight};
 use octoray::prim::{Ray, RayLanes, VertexTriangle};
-use octoray_benches::candidates::{self, Test};
+use octoray_benches::candidates;
 use octoray_benches::peers::TrianglePeer;
 use octoray_benches::report::{self, Report};
 use octoray_benches::speed::{entry, Prepared};
@@ -49,7 +49,7 @@ struct Row {
 enum Accuracy {
     Ours(TriTier),
     /// A candidate layout's test (`octoray_benches::candidates`) at its scalar twin.
-    Candidate(Test<f32>),
+    Candidate(fn(&Ray, [Vec3; 3]) -> Option<f32>),
     Peer(TrianglePeer),
 }
 
@@ -114,12 +114,17 @@ fn rows() -> Vec<Row> {
         Row {
             name: "candidate: Havel-Herout, 8 lanes, t only",
             entry: "candidate: Havel-Herout planes x8 closest-t",
-            accuracy: Candidate(candidates::havel_herout),
+            accuracy: Candidate(|r, t| candidates::single(r, t, candidates::havel_herout)),
         },
         Row {
             name: "candidate: Baldwin-Weber, 8 lanes, t only",
             entry: "candidate: Baldwin-Weber transform x8 closest-t",
-            accuracy: Candidate(candidates::baldwin_weber),
+            accuracy: Candidate(|r, t| candidates::single(r, t, candidates::baldwin_weber)),
+        },
+        Row {
+            name: "candidate: Baldwin-Weber at v0, 8 lanes, t only",
+            entry: "candidate: Baldwin-Weber at v0 x8 closest-t",
+            accuracy: Candidate(|r, t| candidates::single(r, t, candidates::baldwin_weber_v0)),
         },
         Row {
             name: "peer: glam MT (scalar, by hand)",
@@ -153,7 +158,7 @@ impl Row {
     fn test(&self, ray: &Ray, tri: [Vec3; 3]) -> Option<f32> {
         match self.accuracy {
             Accuracy::Ours(t) => t.run(&TriCase { ray: *ray, v: tri }).map(|h| h.t),
-            Accuracy::Candidate(test) => candidates::single(ray, tri, test),
+            Accuracy::Candidate(test) => test(ray, tri),
             Accuracy::Peer(p) => p.test(ray, tri),
         }
     }
@@ -496,7 +501,7 @@ fn ticks_125(lo: f64, hi: f64) -> Vec<f64> {
 /// front (no other point is both faster and more accurate).
 fn chart(r: &Report, path: &str) -> std::result::Result<(), Box<dyn std::error::Error>> {
     let pts = points(r);
-    let root = SVGBackend::new(path, (1100, 640)).into_drawing_area();
+    let root = SVGBackend::new(path, (1160, 640)).into_drawing_area();
     root.fill(&WHITE)?;
     let (plot, legend) = root.split_horizontally(700);
     let (xmin, xmax) = (
