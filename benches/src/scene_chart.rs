@@ -8,25 +8,51 @@ use std::collections::HashMap;
 /// One scene's rows: `"rays|query|traversal|tier or peer"` → Mrays/s.
 pub type Rates = HashMap<String, f64>;
 
-/// The systems drawn, each with its colour and the tier-or-peer column of its rows.
-const SERIES: [(&str, RGBColor, &str); 5] = [
-    ("octoray watertight", RGBColor(31, 119, 180), "watertight"),
+/// Which of a row's `rays|query|traversal` columns ([`ROWS`]) a system's rows use.
+#[derive(Clone, Copy)]
+enum Kind {
+    Octoray = 0,
+    Embree = 1,
+    TinyBvh = 2,
+    Obvhs = 3,
+}
+
+/// The systems drawn: label, colour, the tier-or-peer column of its rows, and its kind of row.
+const SERIES: [(&str, RGBColor, &str, Kind); 5] = [
+    (
+        "octoray watertight",
+        RGBColor(31, 119, 180),
+        "watertight",
+        Kind::Octoray,
+    ),
     (
         "octoray watertight, spatial splits",
         RGBColor(23, 190, 207),
         "watertight, spatial splits",
+        Kind::Octoray,
     ),
-    ("Embree 3 fast", RGBColor(214, 39, 40), "Embree 3 fast"),
+    (
+        "Embree 3 fast",
+        RGBColor(214, 39, 40),
+        "Embree 3 fast",
+        Kind::Embree,
+    ),
     (
         "tinybvh BVH8_CPU, BuildHQ",
         RGBColor(255, 127, 14),
         "tinybvh 1.6.8 (BVH8_CPU, BuildHQ: spatial splits)",
+        Kind::TinyBvh,
     ),
-    ("obvhs CWBVH", RGBColor(44, 160, 44), "obvhs 0.4 (CWBVH)"),
+    (
+        "obvhs CWBVH",
+        RGBColor(44, 160, 44),
+        "obvhs 0.4 (CWBVH)",
+        Kind::Obvhs,
+    ),
 ];
 
-/// The rows drawn: a label, then per system kind the `rays|query|traversal` of its row (octoray,
-/// Embree, tinybvh, obvhs; empty where the system has no such row).
+/// The rows drawn: a label, then per [`Kind`] the `rays|query|traversal` of its row (empty where
+/// the system has no such row).
 const ROWS: [(&str, [&str; 4]); 5] = [
     (
         "primary packet-8",
@@ -78,16 +104,12 @@ const ROWS: [(&str, [&str; 4]); 5] = [
 /// Speed of `series` (an index into [`SERIES`]) on `row` relative to Embree 3 robust, where both
 /// rows were measured.
 fn ratio(rates: &Rates, row: &[&str; 4], series: usize) -> Option<f64> {
-    let kind = match series {
-        0 | 1 => 0,
-        2 => 1,
-        3 => 2,
-        _ => 3,
-    };
+    let (_, _, column, kind) = SERIES[series];
+    let kind = kind as usize;
     if row[kind].is_empty() {
         return None;
     }
-    let own = rates.get(&format!("{}|{}", row[kind], SERIES[series].2))?;
+    let own = rates.get(&format!("{}|{}", row[kind], column))?;
     let robust = rates.get(&format!("{}|Embree 3 robust", row[1]))?;
     Some(own / robust)
 }
@@ -143,7 +165,7 @@ pub fn draw(scenes: &[(String, Rates)], machine: &str, path: &str) -> Result<(),
         .map_err(|e| err(&e))?;
         let w = 0.8 / SERIES.len() as f64;
         for (k, (label, row)) in ROWS.iter().enumerate() {
-            for (s, (_, colour, _)) in SERIES.iter().enumerate() {
+            for (s, (_, colour, _, _)) in SERIES.iter().enumerate() {
                 if let Some(r) = ratio(rates, row, s) {
                     let x0 = k as f64 + 0.1 + w * s as f64;
                     c.draw_series(std::iter::once(Rectangle::new(
@@ -173,7 +195,7 @@ pub fn draw(scenes: &[(String, Rates)], machine: &str, path: &str) -> Result<(),
         }
     }
     let step = (pw * cols as u32) as i32 / SERIES.len() as i32;
-    for (s, (label, colour, _)) in SERIES.iter().enumerate() {
+    for (s, (label, colour, _, _)) in SERIES.iter().enumerate() {
         let x = 12 + step * s as i32;
         legend
             .draw(&Rectangle::new([(x, 18), (x + 14, 32)], colour.filled()))
