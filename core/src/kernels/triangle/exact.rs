@@ -43,8 +43,8 @@
 //! - **Barycentrics:** on filter lanes the watertight tier's (signs certified, so in `[0, 1]`);
 //!   past the filter, the exact ones to f64 precision, rounded.
 //! - **Cost:** the filter's certificates on every test, and the f64 plane distance on every lane
-//!   that hits: 11.876 (report: `exact, 8 lanes`, ns/test) against the watertight tier's
-//!   2.998 (report: `watertight, 8 lanes`, ns/test) on the trade workload, where half the tests hit
+//!   that hits: 8.873 (report: `exact, 8 lanes`, ns/test) against the watertight tier's
+//!   2.992 (report: `watertight, 8 lanes`, ns/test) on the trade workload, where half the tests hit
 //!   (through a tree, where few tests hit, +10–16 % instructions per ray). Per ray family (the
 //!   report's second table, one ray and one triangle per call): 1.0× the watertight tier on
 //!   random and translated rays, 1.2× at 1e-3 rad, ~10× at 1e-5 rad and on rays aimed exactly at

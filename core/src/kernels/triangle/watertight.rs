@@ -632,17 +632,37 @@ fn plane_t<L: Lanes>(
         return fallback;
     }
     let (mut out, mut ok) = ([L::Scalar::from_f64(0.0); MAX_LANES], 0u32);
-    while bits != 0 {
-        let i = bits.trailing_zeros() as usize;
-        bits &= bits - 1;
-        let f = |v: V3<L>| v.lane(i).map(Scalar::to_f64);
-        let (p0, p1, p2, d) = (f(v0), f(v1), f(v2), f(dir));
-        let (e1, e2) = (sub3(p1, p0), sub3(p2, p0));
-        let n = cross3(e1, e2);
-        let t = L::Scalar::from_f64(dot3(sub3(p0, f(origin)), n) / dot3(d, n));
+    let mut put = |i: usize, t: f64| {
+        let t = L::Scalar::from_f64(t);
         if t.to_f64().is_finite() {
             out[i] = t;
             ok |= 1 << i;
+        }
+    };
+    if L::LANES == 1 {
+        let f = |v: V3<L>| v.lane(0).map(Scalar::to_f64);
+        put(0, plane_distance(f(v0), f(v1), f(v2), f(dir), f(origin)));
+    } else {
+        // Every lane of every coordinate widened once: a lane read by a variable index costs a
+        // store and a load each time (824 against 639 instructions per 8-lane test).
+        let wide = |v: V3<L>| -> [[f64; MAX_LANES]; 3] {
+            let lanes = |c: L| {
+                core::array::from_fn(|i| {
+                    if i < L::LANES {
+                        c.lane(i).to_f64()
+                    } else {
+                        0.0
+                    }
+                })
+            };
+            [lanes(v.x), lanes(v.y), lanes(v.z)]
+        };
+        let (w0, w1, w2, wd, wo) = (wide(v0), wide(v1), wide(v2), wide(dir), wide(origin));
+        while bits != 0 {
+            let i = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            let f = |w: &[[f64; MAX_LANES]; 3]| [w[0][i], w[1][i], w[2][i]];
+            put(i, plane_distance(f(&w0), f(&w1), f(&w2), f(&wd), f(&wo)));
         }
     }
     L::select(
@@ -650,6 +670,13 @@ fn plane_t<L: Lanes>(
         L::from_fn(|i| out[i % MAX_LANES]),
         fallback,
     )
+}
+
+/// `((p0 − o)·n)/(d·n)` with `n = (p1 − p0) × (p2 − p0)`, in f64.
+#[inline(always)]
+fn plane_distance(p0: [f64; 3], p1: [f64; 3], p2: [f64; 3], d: [f64; 3], o: [f64; 3]) -> f64 {
+    let n = cross3(sub3(p1, p0), sub3(p2, p0));
+    dot3(sub3(p0, o), n) / dot3(d, n)
 }
 
 /// Magnitudes inside `[SAFE_MIN, SAFE_MAX]` keep every product of the filters normal and finite.
