@@ -9,10 +9,11 @@
 //!
 //! `scene`: sponza, sphere, city, terrain, scanned, open. `rays`: primary, primary-any (the
 //! same rays, occlusion), camera2, bounce, shadow (256×256 pixels from the scene's camera;
-//! bounces and shadow rays from the first camera's hits). `system`: watertight, spatial (the watertight tier on the spatial-split
-//! tree), standard, tinybvh (BVH8_CPU from BuildHQ; the `tinybvh` feature), embree-robust,
-//! embree-fast, obvhs. Closest hit, except primary-any and shadow rays: occlusion (tinybvh:
-//! closest hit, it has no occlusion query). Only [`traced`] runs the rays: counting inside it alone (callgrind's
+//! bounces and shadow rays from the first camera's hits). `system`: watertight, spatial (the
+//! watertight tier on the spatial-split tree), standard, tinybvh (BVH8_CPU from BuildHQ; the
+//! `tinybvh` feature), embree-robust, embree-fast, obvhs. Closest hit, except primary-any and
+//! shadow rays: occlusion (tinybvh: closest hit, it has no occlusion query). Only [`traced`] runs
+//! the rays: counting inside it alone (callgrind's
 //! `--toggle-collect`) leaves out the scene, the trees and the rays' generation; divide by the
 //! ray count printed.
 
