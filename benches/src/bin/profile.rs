@@ -17,9 +17,9 @@
 //! `--toggle-collect`) leaves out the scene, the trees and the rays' generation; divide by the
 //! ray count printed.
 
-use octoray::bvh::{BuildOptions, Bvh8, Sequential};
-use octoray::kernels::{MollerTrumbore, Watertight};
-use octoray::prim::PackedTriangle;
+use octoray::bvh::{BuildOptions, Bvh8, Bvh8Ref, Sequential};
+use octoray::kernels::{Kernel, MollerTrumbore, Watertight};
+use octoray::prim::{PackedTriangle, Ray};
 use octoray_benches::embree::EmbreeScene;
 use octoray_benches::scene_peers::{ObvhsScene, TinyBvhScene};
 use octoray_benches::scenes::{
@@ -61,14 +61,7 @@ fn main() -> Result<(), String> {
             } else {
                 binned
             };
-            let r = tree.as_ref();
-            traced(&|| {
-                if any {
-                    singles_any::<f32x8, Watertight>(r, &rays)
-                } else {
-                    singles_closest::<f32x8, Watertight>(r, &rays)
-                }
-            })
+            octoray_row::<Watertight>(tree.as_ref(), &rays, any)
         }
         "standard" => {
             let packed: Vec<PackedTriangle> = s
@@ -76,15 +69,7 @@ fn main() -> Result<(), String> {
                 .iter()
                 .map(|t| PackedTriangle::new(t[0], t[1], t[2]))
                 .collect();
-            let tree = Bvh8::build(&packed);
-            let r = tree.as_ref();
-            traced(&|| {
-                if any {
-                    singles_any::<f32x8, MollerTrumbore>(r, &rays)
-                } else {
-                    singles_closest::<f32x8, MollerTrumbore>(r, &rays)
-                }
-            })
+            octoray_row::<MollerTrumbore>(Bvh8::build(&packed).as_ref(), &rays, any)
         }
         "tinybvh" => {
             let (tb, _) = TinyBvhScene::build(&s.tris, true)?;
@@ -114,6 +99,17 @@ fn main() -> Result<(), String> {
     };
     println!("{} rays, {hits} hits", rays.len());
     Ok(())
+}
+
+/// An octoray row: single rays through `bvh` with kernel `K`, occlusion when `any`.
+fn octoray_row<K: Kernel<f32x8>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray], any: bool) -> u64 {
+    traced(&|| {
+        if any {
+            singles_any::<f32x8, K>(bvh, rays)
+        } else {
+            singles_closest::<f32x8, K>(bvh, rays)
+        }
+    })
 }
 
 /// The traversal of every ray, and nothing else: what the counts are taken over.
