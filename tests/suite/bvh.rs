@@ -9,7 +9,9 @@
 #![cfg(all(feature = "triangle", feature = "sphere", feature = "alloc"))]
 use octoray_testkit as testkit;
 
-use octoray::bvh::{BuildOptions, Bvh8, Bvh8Node, Bvh8Ref, BvhError, Sequential, EMPTY, PAD};
+use octoray::bvh::{
+    BuildOptions, Bvh8, Bvh8Node, Bvh8Ref, BvhError, Sequential, EMPTY, PAD, WIDTH,
+};
 use octoray::glam::Vec3;
 use octoray::hit::{Candidate, Hit};
 use octoray::kernels::{
@@ -560,6 +562,26 @@ fn bad_trees_are_rejected_not_traversed() {
         closest_ray::<f32x8, Watertight>(r, &ray).map(|h| h.prim),
         Some(0)
     );
+    // Empty slots whose boxes every ray enters: the walks skip them (no child to follow), single
+    // rays and packets alike, and the answers stay the one leaf's.
+    let mut open = n;
+    for s in 1..WIDTH {
+        for a in 0..3 {
+            (open.lo[a][s], open.hi[a][s]) = (f32::NEG_INFINITY, f32::INFINITY);
+        }
+    }
+    let open = [open];
+    let r = R::new(&open, &blocks, &ids, 1).expect("empty slots' boxes are not validated");
+    let miss = Ray::new(Vec3::new(5.0, 5.0, -1.0), Vec3::Z);
+    for (ray, prim) in [(ray, Some(0)), (miss, None)] {
+        assert_eq!(
+            closest_ray::<f32x8, Watertight>(r, &ray).map(|h| h.prim),
+            prim
+        );
+        assert_eq!(occluded_ray::<f32x8, Watertight>(r, &ray), prim.is_some());
+        let packet = closest_packet::<f32x8, Watertight>(r, &RayLanes::load(&[ray; 8]));
+        assert_eq!(packet.mask.bitmask() == 0xff, prim.is_some());
+    }
     assert_eq!(
         R::new(&[n], &blocks, &[], 1).unwrap_err(),
         BvhError::LengthMismatch {

@@ -234,6 +234,10 @@ impl<'a, P: Primitive> Bvh8Ref<'a, P> {
     /// - `ids[k]`: the caller's index of slot `k`, below `prims` (the length of the caller's
     ///   primitive slice) inside a leaf, [`PAD`] on a leaf's padding.
     ///
+    /// - Node indices are at most [`MAX_PRIMS`], like block slots: [`EMPTY`] is then the only
+    ///   child reference with its top bit set, which the single-ray walk reads as "empty" for
+    ///   eight slots at once.
+    ///
     /// A validated tree guarantees: traversal never indexes out of bounds or panics, visits each
     /// node and tests each leaf slot at most once per ray (work linear in the tree's size), and
     /// every reported `prim` is below `prims`.
@@ -280,7 +284,7 @@ impl<'a, P: Primitive> Bvh8Ref<'a, P> {
                 for s in 0..used {
                     let (c, k) = (node.child[s] as usize, node.count[s] as usize);
                     if k == 0 {
-                        if c != next_node || c >= nodes.len() {
+                        if c != next_node || c >= nodes.len() || c > MAX_PRIMS {
                             return Err(bad_node);
                         }
                         if sp == STACK {

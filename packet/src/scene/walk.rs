@@ -353,7 +353,11 @@ pub(super) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
             br,
             f32x8::splat(cull),
         );
-        let mut bits = mask.bitmask();
+        // Empty slots (`child == EMPTY`, the only child with its sign bit set in a validated
+        // tree) never enter the walk, whatever their boxes hold: one mask, off the slab test's
+        // latency chain, instead of a branch per pushed child.
+        let empty = f32x8::from(rows[6]).to_bitmask();
+        let mut bits = mask.bitmask() & !empty;
         if bits == 0 {
             continue;
         }
@@ -365,10 +369,7 @@ pub(super) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
         };
         if bits & (bits - 1) == 0 {
             // One child: visit it next.
-            let s = bits.trailing_zeros() as usize;
-            if node.child[s] != EMPTY {
-                cur = Some(entry(s));
-            }
+            cur = Some(entry(bits.trailing_zeros() as usize));
             continue;
         }
         // Several. Closest hit: of two, the nearer goes next and the other onto the stack (no
@@ -380,39 +381,46 @@ pub(super) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
                 31 - bits.leading_zeros() as usize,
             );
             let (near_s, far_s) = if near[b] < near[a] { (b, a) } else { (a, b) };
-            // Empty slots hold inverted boxes, which no finite ray enters; skip them anyway.
-            if node.child[far_s] != EMPTY {
-                stack.push(entry(far_s));
-            }
-            if node.child[near_s] != EMPTY {
-                cur = Some(entry(near_s));
-            }
+            stack.push(entry(far_s));
+            cur = Some(entry(near_s));
             continue;
         }
         // Three or four (most of the rest): a sorting network of branch-free compare-exchanges
-        // on (entry distance, slot), nearest first; the nearest goes next, the others onto the
-        // stack farthest first.
+        // on (entry distance, slot) packed in one integer, nearest first; the nearest goes next,
+        // the others onto the stack farthest first.
         let n = bits.count_ones() as usize;
         if !ANY && n <= 4 {
-            let mut slots = [0u8; 4];
-            let mut keys = [f32::INFINITY; 4];
-            for (s, k) in slots.iter_mut().zip(&mut keys).take(n) {
-                *s = bits.trailing_zeros() as u8;
-                *k = near[*s as usize];
+            let mut keys = [u64::MAX; 4];
+            for key in &mut keys {
+                let s = bits.trailing_zeros() as usize & (WIDTH - 1);
+                if bits != 0 {
+                    *key = sort_key(near[s], s);
+                }
+                bits &= bits.wrapping_sub(1);
+            }
+            // Three: the fourth key is the largest and stays last (one network, no branch on n).
+            for (a, b) in [(0, 1), (2, 3), (0, 2), (1, 3), (1, 2)] {
+                let (lo, hi) = (keys[a].min(keys[b]), keys[a].max(keys[b]));
+                (keys[a], keys[b]) = (lo, hi);
+            }
+            let slot = |k: u64| (k as usize) & (WIDTH - 1);
+            if n == 4 {
+                stack.push(entry(slot(keys[3])));
+            }
+            stack.push(entry(slot(keys[2])));
+            stack.push(entry(slot(keys[1])));
+            cur = Some(entry(slot(keys[0])));
+            continue;
+        }
+        if ANY {
+            // Occlusion: slot order from the last slot down, the last visited next.
+            let last = 31 - bits.leading_zeros() as usize;
+            bits &= !(1 << last);
+            while bits != 0 {
+                stack.push(entry(bits.trailing_zeros() as usize));
                 bits &= bits - 1;
             }
-            // Three: the fourth key is +inf and stays last (one network, no branch on n).
-            for (a, b) in [(0, 1), (2, 3), (0, 2), (1, 3), (1, 2)] {
-                exchange(&mut keys, &mut slots, a, b);
-            }
-            for &s in slots[1..n].iter().rev() {
-                if node.child[s as usize] != EMPTY {
-                    stack.push(entry(s as usize));
-                }
-            }
-            if node.child[slots[0] as usize] != EMPTY {
-                cur = Some(entry(slots[0] as usize));
-            }
+            cur = Some(entry(last));
             continue;
         }
         // More: slot indices sorted in a local array by entry distance, farthest first, then
@@ -423,7 +431,7 @@ pub(super) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
             let s = bits.trailing_zeros() as usize;
             bits &= bits - 1;
             let mut j = n;
-            while !ANY && j > 0 && near[order[j - 1] as usize] < near[s] {
+            while j > 0 && near[order[j - 1] as usize] < near[s] {
                 order[j] = order[j - 1];
                 j -= 1;
             }
@@ -431,9 +439,7 @@ pub(super) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
             n += 1;
         }
         for &s in &order[..n] {
-            if node.child[s as usize] != EMPTY {
-                stack.push(entry(s as usize));
-            }
+            stack.push(entry(s as usize));
         }
         cur = stack.pop();
     }
@@ -458,16 +464,14 @@ fn trace_single_outlined<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
     trace_single::<L, T, F, ANY>(nodes, leaf, pre, rl, br, start, best, filter, ray_id)
 }
 
-/// Puts the smaller of `keys[a]`, `keys[b]` at `a` and the larger at `b`, their slots with them,
-/// without a branch (a sorting network's compare-exchange).
+/// `near` (not NaN) and slot `s` as one integer ordered as `near`, then `s`: the `f32`'s bits
+/// mapped to an order-preserving `u32` (negative values' bits inverted, positive values' sign
+/// bit set) above the slot.
 #[inline(always)]
-fn exchange(keys: &mut [f32; 4], slots: &mut [u8; 4], a: usize, b: usize) {
-    let swap = keys[b] < keys[a];
-    let (ka, kb, sa, sb) = (keys[a], keys[b], slots[a], slots[b]);
-    keys[a] = if swap { kb } else { ka };
-    keys[b] = if swap { ka } else { kb };
-    slots[a] = if swap { sb } else { sa };
-    slots[b] = if swap { sa } else { sb };
+fn sort_key(near: f32, s: usize) -> u64 {
+    let b = near.to_bits();
+    let ordered = if b >> 31 == 1 { !b } else { b | (1 << 31) };
+    (u64::from(ordered) << 32) | s as u64
 }
 
 /// One ray through geometry `bvh` (hits reported as geometry `geom` of instance `inst`) from
