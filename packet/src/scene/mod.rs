@@ -22,8 +22,8 @@
 //! conservative: a box is skipped only when no kernel can report a hit inside it, including hits
 //! its rounding places slightly outside the exact primitive (the boxes carry a slack of
 //! [`SLACK`](octoray_core::bvh::SLACK), 2⁻¹⁷ of the coordinates' magnitude, ≈ 128 ulp, and the
-//! ray's origin adds its own; the slab test's roundings are covered by a widening of 2⁻²¹ of each
-//! distance). The exception: the boxes' slack covers a kernel's `t` error up to about
+//! ray's origin adds its own; the slab test's roundings are covered by reciprocals widened by 2⁻²⁰,
+//! [`slab`]). The exception: the boxes' slack covers a kernel's `t` error up to about
 //! `128·ε·reach`, while the kernels' contracts allow `8·ε·max(t, reach)/(|cos θ|·sin α)`. When a
 //! kernel's `t` error exceeds the slack (a ray meeting a triangle at |cos θ|·sin α ≲ 1/16, from
 //! far away) *and* another hit lies within that error of it (or `t_min`/`t_max` does), which one

@@ -7,13 +7,20 @@
 //! by the build slack and the ray's origin slack ([`SLACK`]) — for any finite ray, including
 //! directions with zero or −0 components, subnormal components, and origins inside or on the box.
 //!
-//! Derivation (pbrt-v4 `Bounds3::IntersectP`; Ize 2013, "Robust BVH Ray Traversal"): the slab of
-//! axis `k` is crossed at `t = (b − o)·(1/d)`, with `1/d` correctly rounded (no `recip`
-//! estimate), the subtraction and the product each rounded once: three roundings, so the computed
-//! `t` is within `γ₃·|t|` of the exact one (plus 2⁻¹⁵⁰ absolute where it is subnormal). The near
-//! distance is therefore moved down and the far one up by more than `2γ₃` of themselves (a
-//! product by `1 ∓ 2⁻²¹`), and the far one by 2⁻¹²⁵ more, before they are compared. `o/d` is
-//! never precomputed (that form cancels and has no such bound), and nothing is fused.
+//! Derivation (pbrt-v4 `Bounds3::IntersectP`; Ize 2013, "Robust BVH Ray Traversal"; Embree's
+//! robust mode widens the reciprocals as here): the slab of axis `k` is crossed at
+//! `t = (b − o)·(1/d)`. The ray carries `1/d` correctly rounded (no `recip` estimate), then
+//! multiplied by `1 − w` for entry planes and `1 + w` for exit planes (`w = 2⁻²⁰`, rounded
+//! once more); the subtraction and the product are rounded once each. Four roundings of at most
+//! `2⁻²⁴` relative (`2⁻²²` where `1/d` is subnormal, `|d| > 2¹²⁶`: it keeps 21 bits) stay
+//! below `w`, so a computed entry distance is `ρ·t` with `ρ ∈ (1 − 2w, 1)` and an exit distance
+//! `ρ'·t` with `ρ' ∈ (1, 1 + 2w)`: at or below the exact entry, at or above the exact exit
+//! wherever `t ≥ 0`, with no widening left on the test's latency chain. Where `t < 0` they
+//! move the other way by at most `2w·|t|`, which matters only for distances in
+//! `[t_min, 0)`: the entry distance is lowered by the ray's `pad`, `8w·max(0, −t_min)` plus
+//! 2⁻¹²⁵ for results in the subnormal range (absolute error up to 2⁻¹⁵⁰ per rounding), before
+//! the comparison, which so never rejects a box the exact test accepts. `o/d` is never
+//! precomputed (that form cancels and has no such bound), and nothing is fused.
 //!
 //! Per axis, the ray enters through one face and leaves through the other, picked by the sign of
 //! `1/d` (so no `min`/`max` per axis). Infinite reciprocals (zero or −0 components) give `±inf`
@@ -26,10 +33,9 @@ use octoray_core::bvh::SLACK;
 use octoray_core::lanes::{LaneMask, Lanes, Scalar, MAX_LANES, V3};
 use octoray_core::prim::RayLanes;
 
-/// The slab test's relative widening, 2⁻²¹ = 8ε (ε = 2⁻²⁴): applied as a product
-/// `t·(1 ± 2⁻²¹)` rounded once, it moves `t` by at least `7ε` of itself, more than
-/// `2γ₃ = 6ε/(1 − 3ε)`.
-const WIDEN: f32 = 1.0 / 2_097_152.0;
+/// The reciprocals' relative widening, `w = 2⁻²⁰`: more than the four roundings of a slab
+/// distance (module doc).
+const WIDEN_INV: f32 = 1.0 / 1_048_576.0;
 
 /// A ray (per lane) prepared for box tests: the correctly rounded reciprocal direction, and the
 /// origin moved by its slack toward each axis' entry and exit planes.
@@ -46,6 +52,13 @@ pub struct BoxRay<L: Lanes> {
     pub o_exit: V3<L>,
     /// `1/d` (±inf for ±0; NaN where `d` is subnormal and `1/d` overflows).
     pub inv: V3<L>,
+    /// `1/d` moved toward zero by `2⁻²⁰` of itself: the entry planes' reciprocal.
+    pub inv_near: V3<L>,
+    /// `1/d` moved away from zero by `2⁻²⁰` of itself: the exit planes' reciprocal.
+    pub inv_far: V3<L>,
+    /// What the entry distance is lowered by before the comparison: `8·2⁻²⁰·max(0, −t_min)`
+    /// plus 2⁻¹²⁵ (module doc).
+    pub pad: L,
     /// Axes entered through the upper face (`1/d < 0`), per lane.
     pub neg: [L::Mask; 3],
     /// `t_min` per lane.
@@ -86,6 +99,14 @@ impl<L: Lanes> BoxRay<L> {
             & d.z.is_finite();
         let nonzero = d.x.ne(zero) | d.y.ne(zero) | d.z.ne(zero);
         let inv = V3::new(inv1(d.x), inv1(d.y), inv1(d.z));
+        let scaled = |f: f32| {
+            let f = L::splat(f);
+            V3::new(inv.x * f, inv.y * f, inv.z * f)
+        };
+        let (inv_near, inv_far) = (scaled(1.0 - WIDEN_INV), scaled(1.0 + WIDEN_INV));
+        // `max_or_rhs` keeps 0 where t_min is NaN (such lanes report no hit) or +inf.
+        let behind = (-ray.t_min).max_or_rhs(zero);
+        let pad = behind * L::splat(8.0 * WIDEN_INV) + L::splat(2.0 * f32::MIN_POSITIVE);
         let neg = [inv.x.lt(zero), inv.y.lt(zero), inv.z.lt(zero)];
         let (plus, minus) = (
             V3::new(o.x + delta, o.y + delta, o.z + delta),
@@ -99,6 +120,9 @@ impl<L: Lanes> BoxRay<L> {
             o_entry: V3::new(ex, ey, ez),
             o_exit: V3::new(fx, fy, fz),
             inv,
+            inv_near,
+            inv_far,
+            pad,
             neg,
             t_min: ray.t_min,
             valid: ray.active & finite & nonzero,
@@ -114,7 +138,8 @@ fn max3<L: Lanes>(a: L, b: L, c: L) -> L {
 }
 
 /// Per lane: does the ray meet the box `[lo, hi]` within `[t_min, t_max]`? Returns the mask
-/// (`valid` lanes only) and the conservative entry distance (meaningful where the mask is set).
+/// (`valid` lanes only) and the conservative entry distance (meaningful where the mask is set:
+/// at or below the exact one, so a walk may drop the box once its best hit is nearer).
 /// Picks each lane's entry and exit faces by its direction's signs, then [`slab_planes`].
 #[inline(always)]
 pub fn slab<L: Lanes>(lo: V3<L>, hi: V3<L>, r: &BoxRay<L>, t_max: L) -> (L::Mask, L) {
@@ -145,36 +170,17 @@ pub fn slab_planes<L: Lanes>(entry: V3<L>, exit: V3<L>, r: &BoxRay<L>, t_max: L)
     // reciprocal) means the face does not bound the ray; `a.max_or_rhs(b)` is `b` when `a` is
     // NaN, so the reduction skips it. With `1/d = ±inf` and the origin strictly inside the slab
     // the faces give −inf and +inf: no bound either. Outside it the entry face gives +inf: a miss.
-    let near = ((entry.x - r.o_entry.x) * r.inv.x).max_or_rhs(
-        ((entry.y - r.o_entry.y) * r.inv.y)
-            .max_or_rhs(((entry.z - r.o_entry.z) * r.inv.z).max_or_rhs(r.t_min)),
+    // The reciprocals carry the widening (module doc); only the pad is left on the entry side.
+    let near = ((entry.x - r.o_entry.x) * r.inv_near.x).max_or_rhs(
+        ((entry.y - r.o_entry.y) * r.inv_near.y)
+            .max_or_rhs(((entry.z - r.o_entry.z) * r.inv_near.z).max_or_rhs(r.t_min)),
     );
-    let far = ((exit.x - r.o_exit.x) * r.inv.x).min_or_rhs(
-        ((exit.y - r.o_exit.y) * r.inv.y)
-            .min_or_rhs(((exit.z - r.o_exit.z) * r.inv.z).min_or_rhs(t_max)),
+    let far = ((exit.x - r.o_exit.x) * r.inv_far.x).min_or_rhs(
+        ((exit.y - r.o_exit.y) * r.inv_far.y)
+            .min_or_rhs(((exit.z - r.o_exit.z) * r.inv_far.z).min_or_rhs(t_max)),
     );
-    let (near, far) = widen_range(near, far, 1);
+    let near = near - r.pad;
     (near.le(far), near)
-}
-
-/// Moves `near` down and `far` up by `k·2⁻²¹` of themselves and `far` up by `k·2·2⁻¹²⁶` more
-/// (`k = 1`: [`slab`]'s widening; `k = 2`: the frustum's, which covers a lane's widening and its
-/// roundings).
-///
-/// The relative part is a product, `t·(1 − w)` or `t·(1 + w)` whichever is smaller for `near`
-/// (so for either sign) and larger for `far`: with `w = 2⁻²¹ = 8ε`, rounded once, it moves `t`
-/// by at least `7ε > 2γ₃`. The absolute part covers distances in the subnormal range (huge
-/// directions), where a rounding is off by up to 2⁻¹⁵⁰ whatever the value; on the far side
-/// only, since only `near ≤ far` is decided. Two products side by side and a `min` or `max`
-/// keep the node test's latency chain short.
-#[inline(always)]
-fn widen_range<L: Lanes>(near: L, far: L, k: u8) -> (L, L) {
-    let w = f32::from(k) * WIDEN;
-    let (down, up) = (L::splat(1.0 - w), L::splat(1.0 + w));
-    (
-        (near * down).min_or_rhs(near * up),
-        (far * up).max_or_rhs(far * down) + L::splat(f32::from(2 * k) * f32::MIN_POSITIVE),
-    )
 }
 
 /// A coherent packet's frustum: one `f32x8` test of all eight children of a node that rejects a
@@ -183,13 +189,13 @@ fn widen_range<L: Lanes>(near: L, far: L, k: u8) -> (L, L) {
 /// primary rays).
 ///
 /// Built from f32 lanes whose direction signs agree on every axis (one entry face per axis for
-/// the whole packet). Per axis, a lane's slab distance is `fl(fl(b − o)·(1/d))`; correctly rounded
-/// operations are monotone, so the distance at the packet's extreme origin, multiplied by the
-/// smallest and the largest reciprocal, bounds every lane's rounded distance (no slack needed
-/// for that step). Axes where some lane has a non-finite reciprocal do not bound the frustum. The
-/// final widening uses twice [`slab`]'s, which covers the rounding of the widening itself; a
-/// NaN anywhere only loosens the test (it is skipped by the reductions, and a NaN comparison
-/// keeps the child).
+/// the whole packet). Per axis, a lane's entry distance is `fl(fl(b − o)·r)` with `r` its
+/// widened entry reciprocal (likewise its exit distance); correctly rounded operations are
+/// monotone, so the distance at the packet's extreme origin, multiplied by the smallest and the
+/// largest of the lanes' reciprocals, bounds every lane's rounded distance: no widening of its
+/// own. The entry side is lowered by the largest of the lanes' pads. Axes where some lane has
+/// a non-finite reciprocal do not bound the frustum; a NaN anywhere only loosens the test (it
+/// is skipped by the reductions, and a NaN comparison keeps the child).
 #[derive(Clone, Copy, Debug)]
 pub struct Frustum {
     /// Per axis: the node row of the entry face and of the exit face (rows 0–2 lower, 3–5 upper).
@@ -198,11 +204,13 @@ pub struct Frustum {
     /// one that gives the largest exit distance.
     o_near: [f32; 3],
     o_far: [f32; 3],
-    /// Per axis: the smallest and largest reciprocal direction; `None` where some lane's is not
-    /// finite.
-    inv: [Option<(f32, f32)>; 3],
+    /// Per axis: the smallest and largest entry and exit reciprocals of the lanes; `None` where
+    /// some lane's is not finite.
+    inv: [Option<[(f32, f32); 2]>; 3],
     /// The smallest `t_min` (−inf where some lane's is NaN).
     t_min: f32,
+    /// The largest pad.
+    pad: f32,
 }
 
 impl Frustum {
@@ -228,9 +236,11 @@ impl Frustum {
             o_far: [0.0; 3],
             inv: [None; 3],
             t_min: least(t_min),
+            pad: most(r.pad),
         };
         let axes = |v: V3<L>| [v.x, v.y, v.z];
-        let (inv, o_entry, o_exit) = (axes(r.inv), axes(r.o_entry), axes(r.o_exit));
+        let (inv_near, inv_far) = (axes(r.inv_near), axes(r.inv_far));
+        let (o_entry, o_exit) = (axes(r.o_entry), axes(r.o_exit));
         for k in 0..3 {
             let neg = r.neg[k].bitmask() & valid;
             if neg != 0 && neg != valid {
@@ -238,8 +248,10 @@ impl Frustum {
             }
             let neg = neg != 0;
             f.faces[k] = if neg { (3 + k, k) } else { (k, 3 + k) };
-            if (L::select(r.valid, inv[k], L::zero()).is_finite()).all() {
-                f.inv[k] = Some((least(inv[k]), most(inv[k])));
+            let finite = |x: L| L::select(r.valid, x, L::zero()).is_finite().all();
+            if finite(inv_near[k]) && finite(inv_far[k]) {
+                let span = |x: L| (least(x), most(x));
+                f.inv[k] = Some([span(inv_near[k]), span(inv_far[k])]);
             }
             // (b − o)·(1/d) decreases with o when 1/d > 0: the smallest entry distance comes from
             // the largest entry origin, the largest exit distance from the smallest exit origin;
@@ -261,17 +273,18 @@ impl Frustum {
         use wide::f32x8;
         let (mut near, mut far) = (f32x8::splat(self.t_min), f32x8::splat(t_max));
         for k in 0..3 {
-            let Some((lo, hi)) = self.inv[k] else {
+            let Some([(n_lo, n_hi), (f_lo, f_hi)]) = self.inv[k] else {
                 continue;
             };
-            let (lo, hi) = (f32x8::splat(lo), f32x8::splat(hi));
             let a = f32x8::from(rows[self.faces[k].0]) - f32x8::splat(self.o_near[k]);
             let b = f32x8::from(rows[self.faces[k].1]) - f32x8::splat(self.o_far[k]);
             // Products are monotone in each factor: the extremes are at the reciprocal's ends.
-            near = (a * lo).min_or_rhs(a * hi).max_or_rhs(near);
-            far = (b * lo).max_or_rhs(b * hi).min_or_rhs(far);
+            let (n_lo, n_hi) = (f32x8::splat(n_lo), f32x8::splat(n_hi));
+            let (f_lo, f_hi) = (f32x8::splat(f_lo), f32x8::splat(f_hi));
+            near = (a * n_lo).min_or_rhs(a * n_hi).max_or_rhs(near);
+            far = (b * f_lo).max_or_rhs(b * f_hi).min_or_rhs(far);
         }
-        let (near, far) = widen_range(near, far, 2);
+        let near = near - f32x8::splat(self.pad);
         (!near.gt(far)).bitmask()
     }
 }
