@@ -4,7 +4,7 @@
 use super::epilog::{accepts, better, bound, Best, PacketBest};
 use super::slab::{extreme_lane, slab, slab_planes, BoxRay, Frustum};
 use arrayvec::ArrayVec;
-use octoray_core::bvh::{Bvh8Node, Bvh8Ref, EMPTY, STACK, WIDTH};
+use octoray_core::bvh::{Bvh8Node, Bvh8Ref, STACK, WIDTH};
 use octoray_core::hit::{barycentrics, AcceptAll, Hit, HitFilter};
 use octoray_core::kernels::Kernel;
 use octoray_core::lanes::{LaneMask, Lanes, Scalar, V3};
@@ -691,13 +691,13 @@ pub(super) fn packet_walk<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
             }
             None => u32::MAX,
         };
-        for s in 0..WIDTH {
-            if node.child[s] == EMPTY {
-                break;
-            }
-            if (passed >> s) & 1 == 0 {
-                continue;
-            }
+        // The used children the frustum keeps (a validated tree's only child reference with its
+        // sign bit set is `EMPTY`), one at a time.
+        let empty = f32x8::from(bytemuck::cast::<_, [f32; WIDTH]>(node.child)).to_bitmask();
+        let mut todo = passed & !empty & ((1 << WIDTH) - 1);
+        while todo != 0 {
+            let s = todo.trailing_zeros() as usize;
+            todo &= todo - 1;
             let lo = V3::splat([node.lo[0][s], node.lo[1][s], node.lo[2][s]]);
             let hi = V3::splat([node.hi[0][s], node.hi[1][s], node.hi[2][s]]);
             let (m, near) = slab(lo, hi, br, best.cull);
