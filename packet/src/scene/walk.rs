@@ -353,11 +353,9 @@ pub(super) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
             br,
             f32x8::splat(cull),
         );
-        // Empty slots (`child == EMPTY`, the only child with its sign bit set in a validated
-        // tree) never enter the walk, whatever their boxes hold: one mask, off the slab test's
-        // latency chain, instead of a branch per pushed child.
-        let empty = f32x8::from(rows[6]).to_bitmask();
-        let mut bits = mask.bitmask() & !empty;
+        // Empty slots never enter the walk, whatever their boxes hold: one mask, off the slab
+        // test's latency chain, instead of a branch per pushed child.
+        let mut bits = mask.bitmask() & !empty_slots(rows);
         if bits == 0 {
             continue;
         }
@@ -462,6 +460,14 @@ fn trace_single_outlined<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
     ray_id: u32,
 ) -> bool {
     trace_single::<L, T, F, ANY>(nodes, leaf, pre, rl, br, start, best, filter, ray_id)
+}
+
+/// Bit `s` set where slot `s` of a node (its rows: lo x, y, z, hi x, y, z, child, count) is
+/// empty: `child == EMPTY` is a validated tree's only child reference with its sign bit set, so
+/// one movemask of the child row finds them all.
+#[inline(always)]
+fn empty_slots(rows: &[[f32; WIDTH]; 8]) -> u32 {
+    f32x8::from(rows[6]).to_bitmask()
 }
 
 /// `near` (not NaN) and slot `s` as one integer ordered as `near`, then `s`: the `f32`'s bits
@@ -691,10 +697,8 @@ pub(super) fn packet_walk<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
             }
             None => u32::MAX,
         };
-        // The used children the frustum keeps (a validated tree's only child reference with its
-        // sign bit set is `EMPTY`), one at a time.
-        let empty = f32x8::from(bytemuck::cast::<_, [f32; WIDTH]>(node.child)).to_bitmask();
-        let mut todo = passed & !empty & ((1 << WIDTH) - 1);
+        // The used children the frustum keeps, one at a time.
+        let mut todo = passed & !empty_slots(bytemuck::cast_ref(node)) & ((1 << WIDTH) - 1);
         while todo != 0 {
             let s = todo.trailing_zeros() as usize;
             todo &= todo - 1;
