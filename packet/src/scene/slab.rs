@@ -37,8 +37,9 @@ use octoray_core::prim::RayLanes;
 /// distance (module doc).
 const WIDEN_INV: f32 = 1.0 / 1_048_576.0;
 
-/// A ray (per lane) prepared for box tests: the correctly rounded reciprocal direction, and the
-/// origin moved by its slack toward each axis' entry and exit planes.
+/// A ray (per lane) prepared for box tests: the correctly rounded reciprocal direction widened
+/// for entry and exit planes, and the origin moved by its slack toward each axis' entry and exit
+/// planes.
 ///
 /// Per axis, the entry plane is the box's lower face when the direction's sign bit is clear and
 /// its upper face otherwise (`−0` counts as negative: `1/−0 = −inf`), the exit plane the other
@@ -50,9 +51,8 @@ pub struct BoxRay<L: Lanes> {
     pub o_entry: V3<L>,
     /// The same for the exit plane (`o − δ` where the exit plane is the upper face).
     pub o_exit: V3<L>,
-    /// `1/d` (±inf for ±0; NaN where `d` is subnormal and `1/d` overflows).
-    pub inv: V3<L>,
-    /// `1/d` moved toward zero by `2⁻²⁰` of itself: the entry planes' reciprocal.
+    /// `1/d` moved toward zero by `2⁻²⁰` of itself: the entry planes' reciprocal (±inf for
+    /// ±0; NaN where `d` is subnormal and `1/d` overflows).
     pub inv_near: V3<L>,
     /// `1/d` moved away from zero by `2⁻²⁰` of itself: the exit planes' reciprocal.
     pub inv_far: V3<L>,
@@ -119,7 +119,6 @@ impl<L: Lanes> BoxRay<L> {
         Self {
             o_entry: V3::new(ex, ey, ez),
             o_exit: V3::new(fx, fy, fz),
-            inv,
             inv_near,
             inv_far,
             pad,
