@@ -4,7 +4,7 @@
 //! ```text
 //! cargo build --release -p octoray-benches --bin profile
 //! valgrind --tool=callgrind --branch-sim=yes --toggle-collect='*profile::traced*' \
-//!     target/release/profile <scene> <rays> <system>
+//!     target/release/profile <scene> <rays> <system> [single|packet8]
 //! ```
 //!
 //! `scene`: sponza, sphere, city, terrain, scanned, open. `rays`: primary, primary-any (the
@@ -12,7 +12,9 @@
 //! bounces and shadow rays from the first camera's hits). `system`: watertight, spatial (the
 //! watertight tier on the spatial-split tree), standard, tinybvh (BVH8_CPU from BuildHQ; the
 //! `tinybvh` feature), embree-robust, embree-fast, obvhs. Closest hit, except primary-any and
-//! shadow rays: occlusion (tinybvh: closest hit, it has no occlusion query). Only [`traced`] runs
+//! shadow rays: occlusion (tinybvh: closest hit, it has no occlusion query). `packet8`: the
+//! rays in packets of 8 in their stored order (4×2 tiles for primary rays), for octoray's tiers
+//! and Embree (`rtcIntersect8`/`rtcOccluded8`); single rays by default. Only [`traced`] runs
 //! the rays: counting inside it alone (callgrind's
 //! `--toggle-collect`) leaves out the scene, the trees and the rays' generation; divide by the
 //! ray count printed.
@@ -23,16 +25,22 @@ use octoray::prim::{PackedTriangle, Ray};
 use octoray_benches::embree::EmbreeScene;
 use octoray_benches::scene_peers::{ObvhsScene, TinyBvhScene};
 use octoray_benches::scenes::{
-    city, jittered_sphere, open_field, scanned, singles_any, singles_closest, sponza, terrain,
+    city, jittered_sphere, open_field, packets_any, packets_closest, scanned, singles_any,
+    singles_closest, sponza, terrain,
 };
 use wide::f32x8;
 
 fn main() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let usage = "usage: profile <sponza|sphere|city|terrain|scanned|open> <primary|primary-any|camera2|bounce|shadow> <watertight|spatial|standard|tinybvh|embree-robust|embree-fast|obvhs>";
-    let [scene, rays, system] = args.as_slice() else {
-        return Err(usage.into());
+    let usage = "usage: profile <sponza|sphere|city|terrain|scanned|open> <primary|primary-any|camera2|bounce|shadow> <watertight|spatial|standard|tinybvh|embree-robust|embree-fast|obvhs> [single|packet8]";
+    let (scene, rays, system, packets) = match args.as_slice() {
+        [a, b, c] => (a, b, c, false),
+        [a, b, c, d] if d == "single" || d == "packet8" => (a, b, c, d == "packet8"),
+        _ => return Err(usage.into()),
     };
+    if packets && matches!(system.as_str(), "tinybvh" | "obvhs") {
+        return Err(format!("{system} has no packet traversal"));
+    }
     let s = match scene.as_str() {
         "sponza" => sponza()?,
         "sphere" => jittered_sphere(1024),
@@ -45,6 +53,7 @@ fn main() -> Result<(), String> {
     let verts = s.vertex_tris();
     let binned = Bvh8::build(&verts);
     let primary = s.primary_tiled(0, 256, 256, 4, 2);
+    let rays_kind = rays;
     let rays = match rays.as_str() {
         "primary" | "primary-any" => primary,
         "camera2" => s.primary_tiled(1, 256, 256, 4, 2),
@@ -52,7 +61,7 @@ fn main() -> Result<(), String> {
         "shadow" => s.shadow_rays(&primary, &binned),
         _ => return Err(usage.into()),
     };
-    let any = matches!(args[1].as_str(), "shadow" | "primary-any");
+    let any = matches!(rays_kind.as_str(), "shadow" | "primary-any");
     let hits = match system.as_str() {
         "watertight" | "spatial" => {
             let tree = if system == "spatial" {
@@ -61,7 +70,7 @@ fn main() -> Result<(), String> {
             } else {
                 binned
             };
-            octoray_row::<Watertight>(tree.as_ref(), &rays, any)
+            octoray_row::<Watertight>(tree.as_ref(), &rays, any, packets)
         }
         "standard" => {
             let packed: Vec<PackedTriangle> = s
@@ -69,7 +78,7 @@ fn main() -> Result<(), String> {
                 .iter()
                 .map(|t| PackedTriangle::new(t[0], t[1], t[2]))
                 .collect();
-            octoray_row::<MollerTrumbore>(Bvh8::build(&packed).as_ref(), &rays, any)
+            octoray_row::<MollerTrumbore>(Bvh8::build(&packed).as_ref(), &rays, any, packets)
         }
         "tinybvh" => {
             let (tb, _) = TinyBvhScene::build(&s.tris, true)?;
@@ -77,12 +86,11 @@ fn main() -> Result<(), String> {
         }
         "embree-robust" | "embree-fast" => {
             let (em, _) = EmbreeScene::build(&s.tris, system == "embree-robust")?;
-            traced(&|| {
-                if any {
-                    em.any1(&rays)
-                } else {
-                    em.closest1(&rays)
-                }
+            traced(&|| match (any, packets) {
+                (true, true) => em.any8(&rays),
+                (true, false) => em.any1(&rays),
+                (false, true) => em.closest8(&rays),
+                (false, false) => em.closest1(&rays),
             })
         }
         "obvhs" => {
@@ -101,14 +109,19 @@ fn main() -> Result<(), String> {
     Ok(())
 }
 
-/// An octoray row: single rays through `bvh` with kernel `K`, occlusion when `any`.
-fn octoray_row<K: Kernel<f32x8>>(bvh: Bvh8Ref<'_, K::Prim>, rays: &[Ray], any: bool) -> u64 {
-    traced(&|| {
-        if any {
-            singles_any::<f32x8, K>(bvh, rays)
-        } else {
-            singles_closest::<f32x8, K>(bvh, rays)
-        }
+/// An octoray row: single rays (or packets of 8) through `bvh` with kernel `K`, occlusion when
+/// `any`.
+fn octoray_row<K: Kernel<f32x8>>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    rays: &[Ray],
+    any: bool,
+    packets: bool,
+) -> u64 {
+    traced(&|| match (any, packets) {
+        (true, true) => packets_any::<f32x8, K>(bvh, rays),
+        (true, false) => singles_any::<f32x8, K>(bvh, rays),
+        (false, true) => packets_closest::<f32x8, K>(bvh, rays),
+        (false, false) => singles_closest::<f32x8, K>(bvh, rays),
     })
 }
 
