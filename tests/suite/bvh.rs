@@ -393,8 +393,9 @@ fn ties_go_to_the_lower_index_like_brute_force() {
 #[test]
 fn crack_suite_through_the_bvh_has_no_escapes() {
     // The closed meshes of tests/suite/watertight.rs, traced through the BVH, binned and with
-    // spatial splits (packets with hybrid fallback): the watertight tier still lets no ray escape, and the standard tier's cracks
-    // are the same ones as brute force's.
+    // spatial splits (packets where the rays share a direction octant, single rays otherwise):
+    // the watertight tier still lets no ray escape, and the standard tier's cracks are the same
+    // ones as brute force's.
     let rows = crack_suite_with(2_500, |tris, rays| {
         let mut escapes = 0;
         for options in [BuildOptions::BINNED, BuildOptions::SPATIAL] {

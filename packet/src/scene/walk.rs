@@ -577,10 +577,13 @@ pub fn occluded_ray_with<L: Lanes, K: Kernel<L>, F: HitFilter>(
     single::<L, K, F, true>(bvh, ray, filter, 0).0
 }
 
-/// Lanes at which a packet continues ray by ray.
+/// Live lanes at or below which a packet continues ray by ray: a quarter of the lanes, at most
+/// 2, for packets of 16 and for packets of 8 without a frustum; never for a coherent packet of 8
+/// (with a frustum) or of 4, which run faster as a packet to the end than with each remaining
+/// lane's setup for the single-ray walk (`docs/scenes.md`).
 #[inline(always)]
-fn hybrid_threshold<L: Lanes>() -> u32 {
-    if L::LANES >= 8 {
+fn hybrid_threshold<L: Lanes>(coherent: bool) -> u32 {
+    if L::LANES >= 16 || (L::LANES >= 8 && !coherent) {
         (L::LANES as u32 / 4).min(2)
     } else {
         0
@@ -627,6 +630,7 @@ pub(super) fn packet_walk<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
     // The frustum's t_max: the largest valid lane's `cull`, recomputed when `cull` has moved.
     let mut cull_max = f32::NAN;
     best.moved = true;
+    let threshold = hybrid_threshold::<L>(frustum.is_some());
     while let Some(e) = stack.pop() {
         let mut live = e.near.le(best.cull);
         if ANY {
@@ -636,7 +640,7 @@ pub(super) fn packet_walk<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
         if bits == 0 {
             continue;
         }
-        if bits.count_ones() <= hybrid_threshold::<L>() {
+        if bits.count_ones() <= threshold {
             // Few lanes left here: finish this subtree ray by ray.
             let mut b = bits;
             while b != 0 {
