@@ -23,7 +23,7 @@
 //! [`PackedTriangle`]: octoray::prim::PackedTriangle
 
 use glam::Vec3;
-use octoray::hit::LanesHit;
+use octoray::hit::{t_in_range, LanesHit};
 use octoray::lanes::{LaneMask, Lanes, V3};
 use octoray::prim::{Ray, RayLanes};
 use octoray::query::loosen;
@@ -151,7 +151,7 @@ pub fn havel_herout<L: Lanes>(ray: &RayLanes<L>, tri: &PlaneTriangle) -> LanesHi
     }
     let t = tn / det + zero;
     LanesHit {
-        mask: mask & in_range(ray, t),
+        mask: mask & t_in_range(ray, t),
         t,
         u,
         v,
@@ -167,7 +167,7 @@ pub fn baldwin_weber<L: Lanes>(ray: &RayLanes<L>, tri: &PlaneTriangle) -> LanesH
     // In the triangle's frame the ray is o' + t·d'; it meets z = 0 at t = −o'z/d'z, where
     // the barycentrics are o'x + t·d'x and o'y + t·d'y.
     let t = -(n.dot(o) + nw) / n.dot(d) + L::zero();
-    let mask = ray.active & in_range(ray, t);
+    let mask = ray.active & t_in_range(ray, t);
     if mask.none() {
         return LanesHit::miss(mask);
     }
@@ -190,7 +190,7 @@ pub fn baldwin_weber_v0<L: Lanes>(ray: &RayLanes<L>, tri: &FrameTriangle) -> Lan
     let (v0, n, b1, b2) = (v3(tri.v0), v3(tri.n), v3(tri.b1), v3(tri.b2));
     let (s, d) = (ray.origin - v0, ray.dir);
     let t = -n.dot(s) / n.dot(d) + L::zero();
-    let mask = ray.active & in_range(ray, t);
+    let mask = ray.active & t_in_range(ray, t);
     if mask.none() {
         return LanesHit::miss(mask);
     }
@@ -204,12 +204,6 @@ pub fn baldwin_weber_v0<L: Lanes>(ray: &RayLanes<L>, tri: &FrameTriangle) -> Lan
         v,
         scale: L::splat(1.0),
     }
-}
-
-/// `t` finite and in `[t_min, t_max]` (the check every tier's hits pass).
-#[inline(always)]
-fn in_range<L: Lanes>(ray: &RayLanes<L>, t: L) -> L::Mask {
-    t.le(L::splat(f32::MAX)) & t.ge(L::splat(-f32::MAX)) & t.ge(ray.t_min) & t.le(ray.t_max)
 }
 
 /// A candidate's test of the lanes of a ray against one triangle of layout `P`.

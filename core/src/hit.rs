@@ -165,9 +165,10 @@ pub(crate) fn nearest_root_in_range<L: Lanes>(
 }
 
 /// The range check every kernel ends with: `t` is a finite f32 value (for f64 lanes: within
-/// `±f32::MAX`, so it stays finite when read out as f32) inside `[t_min, t_max]`.
+/// `±f32::MAX`, so it stays finite when read out as f32) inside `[t_min, t_max]` (a kernel
+/// written outside this crate ends with it too).
 #[cfg(any(feature = "triangle", feature = "sphere"))]
 #[inline(always)]
-pub(crate) fn t_in_range<L: Lanes>(ray: &RayLanes<L>, t: L) -> L::Mask {
+pub fn t_in_range<L: Lanes>(ray: &RayLanes<L>, t: L) -> L::Mask {
     t.le(L::splat(f32::MAX)) & t.ge(L::splat(-f32::MAX)) & t.ge(ray.t_min) & t.le(ray.t_max)
 }

@@ -7,7 +7,7 @@
 //! | call | rays | how |
 //! |---|---|---|
 //! | [`closest_ray`], [`occluded_ray`] | one | one `f32x8` box test per node (its eight children, on the entry and exit faces picked once per ray); closest hit visits children near-first, occlusion in any order; leaves tested a SoA block of [`BLOCK`] primitives at a time |
-//! | [`closest_packet`], [`closest_t_packet`], [`occluded_packet`] | `L::LANES` | the packet's active mask goes down the tree together, children visited near-first by the packet's entry distance (occlusion: in any order); a coherent f32 packet (one direction octant) first tests a node's eight boxes against its frustum in one `f32x8` test and lane by lane only the children that pass; when a node is reached by at most a quarter of the lanes (and at most 2), those continue ray by ray (hybrid traversal) |
+//! | [`closest_packet`], [`closest_t_packet`], [`occluded_packet`] | `L::LANES` | the packet's active mask goes down the tree together, children visited near-first by the packet's entry distance (occlusion: in any order); a coherent f32 packet (one direction octant) first tests a node's eight boxes against its frustum in one `f32x8` test and lane by lane only the children that pass; a packet of 16, or of 8 without a frustum, continues ray by ray below a node that at most 2 of its lanes reach (hybrid traversal); a coherent packet of 8 stays a packet to the end |
 //! | [`closest`], [`occluded`] | any slice | packets where a packet's rays share a direction octant (coherent), single rays elsewhere |
 //!
 //! Each but `closest_t_packet` has a `_with` twin that takes a [`HitFilter`] (alpha testing,
