@@ -53,7 +53,7 @@ fn main() -> Result<(), String> {
     let verts = s.vertex_tris();
     let binned = Bvh8::build(&verts);
     let primary = s.primary_tiled(0, 256, 256, 4, 2);
-    let rays_kind = rays;
+    let any = matches!(rays.as_str(), "shadow" | "primary-any");
     let rays = match rays.as_str() {
         "primary" | "primary-any" => primary,
         "camera2" => s.primary_tiled(1, 256, 256, 4, 2),
@@ -61,7 +61,6 @@ fn main() -> Result<(), String> {
         "shadow" => s.shadow_rays(&primary, &binned),
         _ => return Err(usage.into()),
     };
-    let any = matches!(rays_kind.as_str(), "shadow" | "primary-any");
     let hits = match system.as_str() {
         "watertight" | "spatial" => {
             let tree = if system == "spatial" {
