@@ -3,6 +3,8 @@
 //! and [`crate::kernels`] (the tiers) sits above them.
 
 use crate::lanes::Lanes;
+#[cfg(any(feature = "triangle", feature = "sphere"))]
+use crate::lanes::{LaneMask, V3};
 use crate::prim::RayLanes;
 
 /// A hit: the ray parameter, the barycentrics of `v1` and `v2` (zero for spheres), the index of
@@ -143,25 +145,116 @@ pub fn barycentrics<L: Lanes>(u: L, v: L, scale: L) -> (L, L) {
 }
 
 /// The sphere kernels' answer from their two roots (`near ≤ far`, or NaN): the nearer root in
-/// range, else the farther (an origin inside the sphere), on the lanes of `mask`.
+/// range, else the farther (an origin inside the sphere), on the lanes of `mask`; `f` is the
+/// origin relative to the centre and `r2` the squared radius.
 #[cfg(feature = "sphere")]
 #[inline(always)]
 pub(crate) fn nearest_root_in_range<L: Lanes>(
     ray: &RayLanes<L>,
     mask: L::Mask,
-    near: L,
-    far: L,
+    (near, far): (L, L),
+    f: V3<L>,
+    r2: L,
 ) -> LanesHit<L> {
     let near_ok = t_in_range(ray, near);
     let far_ok = t_in_range(ray, far);
+    let mask = mask & (near_ok | far_ok);
+    // `+ 0`: the canonical zero (−0 becomes +0).
+    let t = L::select(near_ok, near, far) + L::zero();
+    // Near tangency the roots' error grows as the discriminant cancels: a root before the
+    // sphere's box is raised to the box's entry (`within_box`), whose faces relative to the
+    // origin are −f ∓ r. Their `t ≥ t_min` is decided on the rounded root, so a ray that
+    // leaves the box before `t_min` is a miss too.
+    let (t, mask) = if mask.any() {
+        let (c, r) = (V3::new(-f.x, -f.y, -f.z), r2.sqrt());
+        let (lo, hi) = (
+            V3::new(c.x - r, c.y - r, c.z - r),
+            V3::new(c.x + r, c.y + r, c.z + r),
+        );
+        within_box::<L, true>(ray, mask, t, (lo, hi), ray.dir)
+    } else {
+        (t, mask)
+    };
     LanesHit {
-        mask: mask & (near_ok | far_ok),
-        // `+ 0`: the canonical zero (−0 becomes +0).
-        t: L::select(near_ok, near, far) + L::zero(),
+        mask,
+        t,
         u: L::zero(),
         v: L::zero(),
         scale: L::splat(1.0),
     }
+}
+
+/// `t` raised, on the lanes of `mask`, to the ray's entry into the primitive's box, whose
+/// faces relative to the ray's origin span `lo`..`hi` (per axis, the entry face over that
+/// axis' direction; axes where that is not finite, a zero or overflowing direction, bound
+/// nothing); lanes whose raised `t` passes `t_max` are dropped from the mask. With `EXIT`
+/// (kernels that decide `t ≥ t_min` on their rounded `t`), lanes whose ray leaves that box
+/// before `t_min` are dropped too.
+///
+/// The exact hit point lies in the primitive, so the exact `t` lies between the box's entry and
+/// exit: raising `t` moves it toward the exact `t` (never past it by more than the entry's two
+/// roundings, `2ε` of it), and a dropped lane's exact `t` is before `t_min` (but for those
+/// roundings). A float tier's `t` can lie outside the box's span on grazing rays, where its
+/// error grows as `1/|cos θ|`; the box test of a tree grows every box by a slack far larger
+/// than those roundings, so after this no box that holds the whole primitive is entered after
+/// a reported `t`, or left before `t_min` by a ray that reports a hit in it: a walk that culls
+/// boxes by the best `t` and by `t_min` never culls a hit brute force reports. Raising `t` keeps
+/// the kernels' `t_max` rule ([`crate::kernels::Kernel::EXACT_T_MAX`]): a hit reported at `t`
+/// is reported, at the same `t`, for every `t_max` at or above it.
+#[cfg(any(feature = "triangle", feature = "sphere"))]
+#[inline(always)]
+pub(crate) fn within_box<L: Lanes, const EXIT: bool>(
+    ray: &RayLanes<L>,
+    mask: L::Mask,
+    t: L,
+    (lo, hi): (V3<L>, V3<L>),
+    dir: V3<L>,
+) -> (L, L::Mask) {
+    let zero = L::zero();
+    // Entering through the upper face where the direction is negative; ±0 and overflowing
+    // quotients give ±inf or NaN: that axis bounds nothing.
+    let axis = |near: bool, lo: L, hi: L, d: L| {
+        let neg = d.lt(zero);
+        let e = if near {
+            L::select(neg, hi, lo)
+        } else {
+            L::select(neg, lo, hi)
+        } / d;
+        let none = L::splat(if near {
+            f32::NEG_INFINITY
+        } else {
+            f32::INFINITY
+        });
+        L::select(e.is_finite(), e, none)
+    };
+    let entry = axis(true, lo.x, hi.x, dir.x)
+        .max_or_rhs(axis(true, lo.y, hi.y, dir.y))
+        .max_or_rhs(axis(true, lo.z, hi.z, dir.z));
+    let raise = mask & entry.gt(t);
+    let mut mask = mask;
+    if EXIT {
+        let exit = axis(false, lo.x, hi.x, dir.x)
+            .min_or_rhs(axis(false, lo.y, hi.y, dir.y))
+            .min_or_rhs(axis(false, lo.z, hi.z, dir.z));
+        mask = mask & !exit.lt(ray.t_min);
+    }
+    if raise.none() {
+        return (t, mask);
+    }
+    let t = L::select(raise, entry, t);
+    (t, mask & !(raise & !t_in_range(ray, t)))
+}
+
+/// The box of three points, per axis the smallest and the largest coordinate.
+#[cfg(feature = "triangle")]
+#[inline(always)]
+pub(crate) fn span3<L: Lanes>(a: V3<L>, b: V3<L>, c: V3<L>) -> (V3<L>, V3<L>) {
+    let lo = |a: L, b: L, c: L| a.min_or_rhs(b).min_or_rhs(c);
+    let hi = |a: L, b: L, c: L| a.max_or_rhs(b).max_or_rhs(c);
+    (
+        V3::new(lo(a.x, b.x, c.x), lo(a.y, b.y, c.y), lo(a.z, b.z, c.z)),
+        V3::new(hi(a.x, b.x, c.x), hi(a.y, b.y, c.y), hi(a.z, b.z, c.z)),
+    )
 }
 
 /// The range check every kernel ends with: `t` is a finite f32 value (for f64 lanes: within

@@ -993,3 +993,165 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn grazing_hits_before_their_box_are_not_culled() {
+    // A scene the proptest above drew: two copies of one triangle in sibling leaves with equal
+    // boxes, and a ray grazing them (|cos θ| = 0.0015) whose standard-tier t lay before the
+    // leaves' boxes by more than their slack. The packet walk met the higher index first, and
+    // the box test then culled the lower one's leaf, which brute force reports on the tie.
+    triangle_scene(10_725_411_820_193_579_538, ORDINARY);
+}
+
+#[test]
+fn kernel_hits_lie_within_their_primitive_s_box() {
+    // Rays grazing thin triangles and spheres' rims (where every float tier's t error grows
+    // without bound): every reported t is at or after the ray's entry into the primitive's
+    // box, computed in f64, less two roundings, and no standard-tier hit is reported past a
+    // t_min beyond the box's exit. Before the kernels kept t within the box, the standard and
+    // watertight tiers' t lay before it on some of these rays, and a few standard-tier t past it.
+    let mut rng = Rng(41);
+    let (mut tested, mut hits, mut beyond) = (0, 0, 0);
+    for _ in 0..4_000 {
+        let scale = 10f32.powf(rng.range(-3.0, 3.0));
+        let c = rng.vec3(scale);
+        let along = rng.vec3(1.0).normalize_or(Vec3::X);
+        let side = along.any_orthonormal_vector();
+        let (len, width) = (
+            scale * rng.range(0.1, 2.0),
+            scale * 10f32.powf(rng.range(-5.0, -1.0)),
+        );
+        let tri = VertexTriangle::new(c - along * len, c + along * len, c + side * width);
+        // Through a point of the triangle, at an angle of 1e-6…1e-2 rad to its plane.
+        let (b1, b2) = (rng.range(0.0, 1.0), rng.range(0.0, 1.0));
+        let (b1, b2) = if b1 + b2 > 1.0 {
+            (1.0 - b1, 1.0 - b2)
+        } else {
+            (b1, b2)
+        };
+        let [v0, v1, v2] = tri.vertices();
+        // Half the rays pass next to a vertex, where the box's entry or exit is close to the hit.
+        let (b1, b2) = match rng.next_u64() % 6 {
+            0 => (1.0 - b1 * 1e-4, b2 * 1e-5),
+            1 => (b1 * 1e-5, 1.0 - b2 * 1e-4),
+            2 => (b1 * 1e-5, b2 * 1e-5),
+            _ => (b1, b2),
+        };
+        let p = v0 + (v1 - v0) * b1 + (v2 - v0) * b2;
+        let n = (v1 - v0).cross(v2 - v0).normalize_or(Vec3::Z);
+        let tilt =
+            10f32.powf(rng.range(-6.0, -2.0)) * if rng.range(0.0, 1.0) < 0.5 { 1.0 } else { -1.0 };
+        let dir = (along * rng.range(-1.0, 1.0) + side * rng.range(-1.0, 1.0)).normalize_or(along)
+            + n * tilt;
+        let origin = p - dir * (scale * rng.range(0.5, 4.0));
+        let ray = Ray::new(origin, dir);
+        let rays = RayLanes::<f32x8>::load(&[ray]);
+        let sphere = PackedSphere::new(c, len);
+        // A ray grazing the sphere's rim: aimed past its centre at the radius, less a hair.
+        let rim = Ray::new(
+            c - along * (3.0 * len) + side * (len * (1.0 - 10f32.powf(rng.range(-6.0, -2.0)))),
+            along,
+        );
+        // The ray's entry into and exit from the box `lo..hi`, in f64.
+        let span = |lo: [f32; 3], hi: [f32; 3], ray: &Ray| -> (f64, f64) {
+            let (o, d) = (ray.origin.to_array(), ray.dir.to_array());
+            let (mut entry, mut exit) = (f64::NEG_INFINITY, f64::INFINITY);
+            for k in 0..3 {
+                if d[k] != 0.0 {
+                    let (a, b) = if d[k] < 0.0 {
+                        (hi[k], lo[k])
+                    } else {
+                        (lo[k], hi[k])
+                    };
+                    let at = |face: f32| (f64::from(face) - f64::from(o[k])) / f64::from(d[k]);
+                    (entry, exit) = (entry.max(at(a)), exit.min(at(b)));
+                }
+            }
+            (entry, exit)
+        };
+        let box_exit = |lo, hi, ray: &Ray| span(lo, hi, ray).1;
+        let hits_before = |t: f32, lo, hi, ray: &Ray| -> bool {
+            let entry = span(lo, hi, ray).0;
+            f64::from(t) < entry - entry.abs() * 4.0 * f64::from(f32::EPSILON) - 1e-30
+        };
+        let tri_box = |t: &VertexTriangle| {
+            let v = t.vertices();
+            let lo = core::array::from_fn(|k| v.iter().map(|p| p[k]).fold(f32::INFINITY, f32::min));
+            let hi =
+                core::array::from_fn(|k| v.iter().map(|p| p[k]).fold(f32::NEG_INFINITY, f32::max));
+            (lo, hi)
+        };
+        let (lo, hi) = tri_box(&tri);
+        let packed = PackedTriangle::from(tri);
+        let (plo, phi) = {
+            let b = packed.bounds().expect("finite");
+            (b.lo, b.hi)
+        };
+        let one = |h: query::ClosestHit<f32x8>| h.lane(0).map(|h| h.t);
+        // Where the ray leaves the standard tier's box before its reported t, a t_min just past
+        // that exit makes it a miss (the exact t is before t_min; no box test reaches it).
+        if let Some(t) = one(query::closest::<f32x8, MollerTrumbore>(&rays, &[packed])) {
+            let exit = box_exit(plo, phi, &ray);
+            let past = (exit + exit.abs() * 1e-6 + 1e-30) as f32;
+            if f64::from(t) > f64::from(past) {
+                beyond += 1;
+                let r = Ray { t_min: past, ..ray };
+                let h = query::closest::<f32x8, MollerTrumbore>(&RayLanes::load(&[r]), &[packed]);
+                assert_eq!(
+                    h.lane(0),
+                    None,
+                    "a hit past t_min = {past} though the box ends at {exit}"
+                );
+            }
+        }
+        // Each kernel against the box of the primitive as it reads it.
+        let checks = [
+            (
+                one(query::closest::<f32x8, MollerTrumbore>(&rays, &[packed])),
+                plo,
+                phi,
+            ),
+            (
+                one(query::closest::<f32x8, Watertight>(&rays, &[tri])),
+                lo,
+                hi,
+            ),
+            (
+                query::closest::<f64x4, Watertight>(&RayLanes::load(&[ray]), &[tri])
+                    .lane(0)
+                    .map(|h| h.t),
+                lo,
+                hi,
+            ),
+        ];
+        for (t, lo, hi) in checks {
+            if let Some(t) = t {
+                hits += 1;
+                assert!(
+                    !hits_before(t, lo, hi, &ray),
+                    "t = {t} before the box of {tri:?}, {ray:?}"
+                );
+            }
+        }
+        let rim_lanes = RayLanes::<f32x8>::load(&[rim]);
+        let b = sphere.bounds().expect("finite");
+        for k in [
+            one(query::closest::<f32x8, StableSphere>(&rim_lanes, &[sphere])),
+            one(query::closest::<f32x8, NaiveSphere>(&rim_lanes, &[sphere])),
+        ]
+        .into_iter()
+        .flatten()
+        {
+            hits += 1;
+            assert!(
+                !hits_before(k, b.lo, b.hi, &rim),
+                "t = {k} before the box of {sphere:?}, {rim:?}"
+            );
+        }
+        tested += 1;
+    }
+    assert_eq!(tested, 4_000);
+    assert!(hits > 2_000, "only {hits} hits");
+    assert!(beyond > 0, "no standard-tier t past its box's exit");
+    println!("{hits} hits, {beyond} standard-tier t past the box's exit");
+}

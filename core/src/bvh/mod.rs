@@ -13,11 +13,17 @@
 //! # Boxes
 //! Every box is conservative: it holds its primitives exactly as the kernels read them, grown by
 //! [`SLACK`] of its largest coordinate magnitude and one ulp, so that no kernel hit (whose
-//! rounding may place it slightly outside the exact primitive) lies outside the box of its leaf.
+//! rounding may place it slightly outside the exact primitive) lies outside the box of its leaf,
+//! and no box is entered after a hit a kernel reports on a primitive it holds whole (the kernels
+//! raise a `t` that lies before the primitive's own box to that box's entry): a walk that culls
+//! boxes entered after its best `t` finds what brute force finds.
 //! Primitives with a non-finite coordinate are left out of the tree (no kernel can hit them).
 //! A spatial split's box holds a part of a primitive ([`crate::prim::Primitive::clip`], rounded
 //! outward) and takes the slack of the whole primitive, so a hit a kernel reports on that part
-//! lies in it too; the parts of a primitive cover it.
+//! lies in it too; the parts of a primitive cover it. A part's box can be entered after a `t`
+//! the kernel reports on that part where `t`'s error exceeds the slack (a float tier's `t` on a
+//! grazing ray, `|cos θ|` ≲ 10⁻²): a walk of a tree with spatial splits can then miss that hit
+//! in favour of a farther one (the exact tier's `t`, within an ulp, always finds it).
 //! Primitive indices are `u32`, and a tree holds at most [`MAX_PRIMS`] primitives.
 //!
 //! # Untrusted trees
@@ -50,7 +56,10 @@ pub const MAX_DEPTH: usize = 64;
 /// Relative slack of boxes and origins: 2⁻¹⁷ (≈ 128 ulp of f32) of the largest coordinate
 /// magnitude. It covers every tier's hit/miss margin (≤ 64·ε of the distance from the origin to
 /// the primitive's vertices, measured in the accuracy report), so no kernel hit lies outside a
-/// box the traversal visits.
+/// box the traversal visits. A float tier's `t` can err by more than that on grazing rays; the
+/// kernels raise such a `t` to the ray's entry into the primitive's own box (and miss where the
+/// ray leaves it before `t_min`), so a box that holds the whole primitive is never entered after
+/// a hit reported on it.
 pub const SLACK: f32 = 1.0 / 131_072.0;
 
 /// Traversal stack capacity: a depth-first walk holds at most `WIDTH − 1` siblings per level.

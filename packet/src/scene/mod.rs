@@ -23,12 +23,17 @@
 //! its rounding places slightly outside the exact primitive (the boxes carry a slack of
 //! [`SLACK`](octoray_core::bvh::SLACK), 2⁻¹⁷ of the coordinates' magnitude, ≈ 128 ulp, and the
 //! ray's origin adds its own; the slab test's roundings are covered by reciprocals widened by 2⁻²⁰,
-//! [`slab`]). The exception: the boxes' slack covers a kernel's `t` error up to about
-//! `128·ε·reach`, while the kernels' contracts allow `8·ε·max(t, reach)/(|cos θ|·sin α)`. When a
-//! kernel's `t` error exceeds the slack (a ray meeting a triangle at |cos θ|·sin α ≲ 1/16, from
-//! far away) *and* another hit lies within that error of it (or `t_min`/`t_max` does), which one
-//! is nearest is undecidable at the tier's accuracy, and the tree may report the other: a hit
-//! either way, within the tier's `t` error of brute force's. The same holds where the kernels
+//! [`slab`]). A float tier's `t` can err by more than that slack (the kernels' contracts allow
+//! `8·ε·max(t, reach)/(|cos θ|·sin α)`: a ray meeting a triangle at |cos θ|·sin α ≲ 1/16), and
+//! could then lie before a box that holds the primitive; every kernel raises such a `t` to the
+//! ray's entry into the primitive's own box (and a kernel that decides `t ≥ t_min` on its
+//! rounded `t` reports no hit where the ray leaves that box before `t_min`), so no box that
+//! holds a primitive whole is entered after a hit reported on it or left before `t_min`, and the
+//! walk's culling by its best `t` and by `t_min` equals brute force. The
+//! exception is a tree with spatial splits: a part's box holds only part of the primitive and
+//! can be entered after such a `t`; if another hit lies within that `t` error of it (or
+//! `t_min`/`t_max` does), the tree may report the other: a hit either way, within the tier's
+//! `t` error of brute force's (the exact tier's `t`, within an ulp, is not affected). The same holds where the kernels
 //! underflow (`ρ²·t ≲ 1e-30`, see the watertight contract). The naive sphere tier is not sound
 //! far from a sphere (its contract): a false hit it reports there lies outside every box, and
 //! the tree does not report it.

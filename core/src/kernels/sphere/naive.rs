@@ -8,7 +8,9 @@
 //!   is large compared to the radius, so hit/miss can be wrong for small distant spheres
 //!   (measured in the accuracy report at 1e2…1e6 radii) and the near root cancels in `−b + √Δ`.
 //! - Reported hits always have finite `t ∈ [t_min, t_max]`; bad input is a miss, and so is an
-//!   overflowed `b² − 4ac` or `2a` (`|f|·|d|` or `|d|·r` beyond ~1e19).
+//!   overflowed `b² − 4ac` or `2a` (`|f|·|d|` or `|d|·r` beyond ~1e19). A root before the ray's
+//!   entry into the sphere's bounding box is raised to that entry, and a ray that leaves that box
+//!   before `t_min` is a miss, as in the stable kernel.
 
 use crate::hit::{nearest_root_in_range, LanesHit};
 use crate::lanes::{LaneMask, Lanes, Scalar};
@@ -50,5 +52,5 @@ pub fn intersect_lanes<L: Lanes>(ray: &RayLanes<L>, sphere: &SphereLanes<L>) -> 
     let sq = disc.sqrt();
     let near = (-b - sq) / two_a;
     let far = (-b + sq) / two_a;
-    nearest_root_in_range(ray, mask, near, far)
+    nearest_root_in_range(ray, mask, (near, far), f, sphere.radius_sq)
 }

@@ -9,7 +9,11 @@
 //!   from `q = −(h + sign(h)·√(Δ/4))` as `t = c/q` and `t = q/a`, so neither root cancels.
 //!   `c = f·f − r²` still cancels for an origin next to the surface of a huge sphere (there `t`
 //!   near 0 has large relative error; the accuracy tiers measure it).
-//! - The nearest root in `[t_min, t_max]` is the hit; an origin inside gets the far root.
+//! - The nearest root in `[t_min, t_max]` is the hit; an origin inside gets the far root. A root
+//!   before the ray's entry into the sphere's bounding box (near tangency, where the bound below
+//!   grows) is raised to that entry, which only moves it toward the exact root, and a ray that
+//!   leaves that box before `t_min` is a miss: no BVH box that holds the sphere is entered after
+//!   a reported hit on it or left before `t_min`.
 //! - **t error bound:** `|t − t_exact| ≤ 8·ε·max(|t|, (|f| + r)/|d|)/√(Δ/(a r²))` (the last factor
 //!   is the roots' sensitivity near tangency); measured at most 4.0 over near, distant
 //!   (1e2…1e4 r) and tiny cases (radii down to [`PackedSphere::MIN_RADIUS`], `|d|` down to
@@ -102,5 +106,5 @@ pub fn intersect_lanes<L: Lanes>(
     let ordered = t0.le(t1);
     let near = L::select(ordered, t0, t1);
     let far = L::select(ordered, t1, t0);
-    nearest_root_in_range(ray, mask, near, far)
+    nearest_root_in_range(ray, mask, (near, far), f, r2)
 }
