@@ -166,12 +166,9 @@ pub(crate) fn nearest_root_in_range<L: Lanes>(
     // origin are −f ∓ r. Their `t ≥ t_min` is decided on the rounded root, so a ray that
     // leaves the box before `t_min` is a miss too.
     let (t, mask) = if mask.any() {
-        let (c, r) = (V3::new(-f.x, -f.y, -f.z), r2.sqrt());
-        let (lo, hi) = (
-            V3::new(c.x - r, c.y - r, c.z - r),
-            V3::new(c.x + r, c.y + r, c.z + r),
-        );
-        within_box::<L, true>(ray, mask, t, (lo, hi), ray.dir)
+        let r = r2.sqrt();
+        let corner = |r: L| V3::new(r - f.x, r - f.y, r - f.z);
+        within_box::<L, true, 2>(ray, mask, t, [corner(-r), corner(r)])
     } else {
         (t, mask)
     };
@@ -184,16 +181,18 @@ pub(crate) fn nearest_root_in_range<L: Lanes>(
     }
 }
 
-/// `t` raised, on the lanes of `mask`, to the ray's entry into the primitive's box, whose
-/// faces relative to the ray's origin span `lo`..`hi` (per axis, the entry face over that
-/// axis' direction; axes where that is not finite, a zero or overflowing direction, bound
-/// nothing); lanes whose raised `t` passes `t_max` are dropped from the mask. With `EXIT`
-/// (kernels that decide `t ≥ t_min` on their rounded `t`), lanes whose ray leaves that box
-/// before `t_min` are dropped too.
+/// `t` raised, on the lanes of `mask`, to the ray's entry into the primitive's box, the box of
+/// `points` (relative to the ray's origin: a triangle's vertices, a sphere's two corners); lanes
+/// whose raised `t` passes `t_max` are dropped from the mask. With `EXIT` (kernels that decide
+/// `t ≥ t_min` on their rounded `t`), lanes whose ray leaves that box before `t_min` are
+/// dropped too.
 ///
+/// Per axis the points' distances along the ray are `p·(1/d)`; their smallest is where the ray
+/// enters that axis' slab and their largest where it leaves it, whichever the direction's sign
+/// (axes where they are not finite, a zero or tiny direction component, bound nothing).
 /// The exact hit point lies in the primitive, so the exact `t` lies between the box's entry and
-/// exit: raising `t` moves it toward the exact `t` (never past it by more than the entry's two
-/// roundings, `2ε` of it), and a dropped lane's exact `t` is before `t_min` (but for those
+/// exit: raising `t` moves it toward the exact `t` (never past it by more than the entry's three
+/// roundings, `3ε` of it), and a dropped lane's exact `t` is before `t_min` (but for those
 /// roundings). A float tier's `t` can lie outside the box's span on grazing rays, where its
 /// error grows as `1/|cos θ|`; the box test of a tree grows every box by a slack far larger
 /// than those roundings, so after this no box that holds the whole primitive is entered after
@@ -203,58 +202,39 @@ pub(crate) fn nearest_root_in_range<L: Lanes>(
 /// is reported, at the same `t`, for every `t_max` at or above it.
 #[cfg(any(feature = "triangle", feature = "sphere"))]
 #[inline(always)]
-pub(crate) fn within_box<L: Lanes, const EXIT: bool>(
+pub(crate) fn within_box<L: Lanes, const EXIT: bool, const N: usize>(
     ray: &RayLanes<L>,
     mask: L::Mask,
     t: L,
-    (lo, hi): (V3<L>, V3<L>),
-    dir: V3<L>,
+    points: [V3<L>; N],
 ) -> (L, L::Mask) {
-    let zero = L::zero();
-    // Entering through the upper face where the direction is negative; ±0 and overflowing
-    // quotients give ±inf or NaN: that axis bounds nothing.
-    let axis = |near: bool, lo: L, hi: L, d: L| {
-        let neg = d.lt(zero);
-        let e = if near {
-            L::select(neg, hi, lo)
-        } else {
-            L::select(neg, lo, hi)
-        } / d;
-        let none = L::splat(if near {
-            f32::NEG_INFINITY
-        } else {
-            f32::INFINITY
-        });
-        L::select(e.is_finite(), e, none)
-    };
-    let entry = axis(true, lo.x, hi.x, dir.x)
-        .max_or_rhs(axis(true, lo.y, hi.y, dir.y))
-        .max_or_rhs(axis(true, lo.z, hi.z, dir.z));
-    let raise = mask & entry.gt(t);
+    let one = L::splat(1.0);
+    let (mut entry, mut exit) = (L::splat(f32::NEG_INFINITY), L::splat(f32::INFINITY));
+    for (inv, k) in [
+        (one / ray.dir.x, 0),
+        (one / ray.dir.y, 1),
+        (one / ray.dir.z, 2),
+    ] {
+        let at = |p: V3<L>| [p.x, p.y, p.z][k] * inv;
+        let (mut near, mut far) = (at(points[0]), at(points[0]));
+        for &p in &points[1..] {
+            (near, far) = (near.min_or_rhs(at(p)), far.max_or_rhs(at(p)));
+        }
+        entry = L::select(near.is_finite(), near, entry).max_or_rhs(entry);
+        if EXIT {
+            exit = L::select(far.is_finite(), far, exit).min_or_rhs(exit);
+        }
+    }
     let mut mask = mask;
     if EXIT {
-        let exit = axis(false, lo.x, hi.x, dir.x)
-            .min_or_rhs(axis(false, lo.y, hi.y, dir.y))
-            .min_or_rhs(axis(false, lo.z, hi.z, dir.z));
         mask = mask & !exit.lt(ray.t_min);
     }
+    let raise = mask & entry.gt(t);
     if raise.none() {
         return (t, mask);
     }
     let t = L::select(raise, entry, t);
     (t, mask & !(raise & !t_in_range(ray, t)))
-}
-
-/// The box of three points, per axis the smallest and the largest coordinate.
-#[cfg(feature = "triangle")]
-#[inline(always)]
-pub(crate) fn span3<L: Lanes>(a: V3<L>, b: V3<L>, c: V3<L>) -> (V3<L>, V3<L>) {
-    let lo = |a: L, b: L, c: L| a.min_or_rhs(b).min_or_rhs(c);
-    let hi = |a: L, b: L, c: L| a.max_or_rhs(b).max_or_rhs(c);
-    (
-        V3::new(lo(a.x, b.x, c.x), lo(a.y, b.y, c.y), lo(a.z, b.z, c.z)),
-        V3::new(hi(a.x, b.x, c.x), hi(a.y, b.y, c.y), hi(a.z, b.z, c.z)),
-    )
 }
 
 /// The range check every kernel ends with: `t` is a finite f32 value (for f64 lanes: within

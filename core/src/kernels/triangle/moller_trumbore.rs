@@ -37,7 +37,7 @@
 //!   `t` loses its relative accuracy (the fuzz harness saw t = 2.0e38 for an exact 4e38 with
 //!   |d| = 7e-41); hits keep the shape guarantees above. Normalise directions.
 
-use crate::hit::{span3, t_in_range, within_box, LanesHit};
+use crate::hit::{t_in_range, within_box, LanesHit};
 use crate::lanes::V3;
 use crate::lanes::{LaneMask, Lanes, Scalar};
 use crate::prim::{EdgeLanes, Primitive};
@@ -129,7 +129,7 @@ pub fn intersect_with<L: Lanes, const CULL: bool>(
     // tree's box test culls a reported hit (`within_box`). The vertices relative to the origin:
     // v0 − o, then v1 − o and v2 − o as the kernel's algebra has them, (v0 − o) + e.
     let a = v0 - ray.origin;
-    let (t, mask) = within_box::<L, true>(ray, mask, t, span3(a, a + e1, a + e2), ray.dir);
+    let (t, mask) = within_box::<L, true, 3>(ray, mask, t, [a, a + e1, a + e2]);
     LanesHit {
         mask,
         t,

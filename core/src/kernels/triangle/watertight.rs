@@ -65,7 +65,7 @@
 //!   fuzz harness had seen `t = 0` reported for an exact `t` of 3e-36). For such scenes use the
 //!   exact tier, which decides the edges exactly too.
 //!
-use crate::hit::{span3, within_box, LanesHit};
+use crate::hit::{within_box, LanesHit};
 use crate::kernels::triangle::exact::{cross3, dot3, resolve, sub3, LaneQuery};
 use crate::lanes::V3;
 use crate::lanes::{LaneMask, Lanes, Scalar, MAX_LANES};
@@ -610,14 +610,23 @@ fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
     // differently (exact t ≥ t_min, rounded t ≤ t_max), so they alone could both pass.
     mask = mask & t.le(L::splat(f32::MAX)) & t.ge(L::splat(-f32::MAX)) & t_min.le(t_max);
     // On grazing rays the plane distance can lie before the triangle's box (its error grows as
-    // 1/|cos θ|): raised to the box's entry, so no tree's box test culls the hit
-    // (`within_box`; its t ≥ t_min is exact already; `a`, `b`, `c` are the vertices relative to the origin in the lane's
-    // axis order, `sh.dir` the direction in it). The exact tier's t, and the exact t a
-    // watertight lane took from the exact stage, are within an ulp of the exact t already.
+    // 1/|cos θ|): raised to the box's entry, so no tree's box test culls the hit (`within_box`;
+    // t ≥ t_min is decided exactly here already). `a`, `b`, `c` are the vertices relative to
+    // the origin in the lane's axis order, `sh.dir` the direction in it (the box's entry does
+    // not depend on the axis order). The exact tier's t, and the exact t a watertight lane took
+    // from the exact stage, are within an ulp of the exact t already.
     let (t, mask) = if EXACT {
         (t, mask)
     } else {
-        let (t, raised) = within_box::<L, false>(ray, mask & !exact_t, t, span3(a, b, c), sh.dir);
+        let (t, raised) = within_box::<L, false, 3>(
+            &RayLanes {
+                dir: sh.dir,
+                ..*ray
+            },
+            mask & !exact_t,
+            t,
+            [a, b, c],
+        );
         (t, raised | (mask & exact_t))
     };
     let hit = LanesHit {
