@@ -218,7 +218,8 @@ pub(crate) fn within_box<L: Lanes, const EXIT: bool, const N: usize>(
         let at = |p: V3<L>| [p.x, p.y, p.z][k] * inv;
         let (mut near, mut far) = (at(points[0]), at(points[0]));
         for &p in &points[1..] {
-            (near, far) = (near.min_or_rhs(at(p)), far.max_or_rhs(at(p)));
+            let x = at(p);
+            (near, far) = (near.min_or_rhs(x), far.max_or_rhs(x));
         }
         entry = L::select(near.is_finite(), near, entry).max_or_rhs(entry);
         if EXIT {
