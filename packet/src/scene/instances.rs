@@ -1,7 +1,7 @@
 //! The scene's walks: the top-level tree over instances, whose leaves carry the ray into each
 //! instance's object space and walk its geometry's tree ([`Instances`], a [`Leaf`]).
 
-use super::epilog::{Best, PacketBest};
+use super::epilog::{bound, Best, PacketBest};
 use super::masks::{check_masks, RayMasks};
 use super::slab::BoxRay;
 use super::walk::{
@@ -375,6 +375,7 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Leaf<L> for Instances<'_, '_, L, KT
         count: usize,
         rl: &RayLanes<L>,
         best: &mut Option<Best<L::Scalar>>,
+        t_bound: &mut L::Scalar,
         filter: &mut F,
         ray_id: u32,
     ) -> bool {
@@ -386,6 +387,7 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Leaf<L> for Instances<'_, '_, L, KT
                 return true;
             }
         }
+        *t_bound = bound(rl.t_max.lane(0), best);
         false
     }
 

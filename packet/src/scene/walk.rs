@@ -20,7 +20,8 @@ pub(super) trait Leaf<L: Lanes> {
     /// Prepares `rays` (one ray broadcast, or a packet).
     fn prepare(&self, rays: &RayLanes<L>) -> Self::Pre;
     /// One ray (`rl`, broadcast to every lane) against the slots: `best` carries the hit so far
-    /// in and the best one out. With `ANY`, returns `true` at the first accepted hit.
+    /// in and the best one out, `t_bound` its [`bound`] (kept equal to it). With `ANY`, returns
+    /// `true` at the first accepted hit.
     #[allow(clippy::too_many_arguments)] // the walk's state, passed down once per leaf
     fn single<F: HitFilter, const ANY: bool>(
         &self,
@@ -29,6 +30,7 @@ pub(super) trait Leaf<L: Lanes> {
         count: usize,
         rl: &RayLanes<L>,
         best: &mut Option<Best<L::Scalar>>,
+        t_bound: &mut L::Scalar,
         filter: &mut F,
         ray_id: u32,
     ) -> bool;
@@ -129,29 +131,34 @@ impl<L: Lanes, K: Kernel<L>, const MANY: bool> Leaf<L> for Prims<'_, L, K, MANY>
         count: usize,
         rl: &RayLanes<L>,
         best: &mut Option<Best<L::Scalar>>,
+        t_bound: &mut L::Scalar,
         filter: &mut F,
         ray_id: u32,
     ) -> bool {
         let bvh = self.bvh;
         let t_max = rl.t_max.lane(0);
         let mut ray = *rl;
-        // One block at a time; at fewer than BLOCK lanes, a block in several calls.
-        for at in (first..first + count).step_by(BLOCK) {
+        // One block at a time (a leaf starts a block: `first` is a multiple of BLOCK); at fewer
+        // than BLOCK lanes, a block in several calls. A leaf holds at least one slot, so each
+        // loop runs its body before it tests (at BLOCK lanes or more the inner one runs once).
+        let end = first + count;
+        let mut at = first;
+        loop {
             let block = bvh.block_of(at);
-            let in_block = (first + count - at).min(BLOCK);
-            for sub in (0..in_block).step_by(L::LANES) {
+            let in_block = (end - at).min(BLOCK);
+            let mut sub = 0;
+            loop {
                 ray.active = L::first_lanes(in_block - sub);
-                ray.t_max = if K::EXACT_T_MAX {
-                    rl.t_max
-                } else {
-                    L::splat_scalar(bound(t_max, best))
-                };
+                if !K::EXACT_T_MAX {
+                    ray.t_max = L::splat_scalar(*t_bound);
+                }
                 let rows = BlockRows::new::<K::Prim>(block, sub);
                 let h = K::intersect_words(&ray, pre, &rows);
                 let mut bits = h.mask.bitmask();
                 if ANY && F::ACCEPTS_ALL && bits != 0 && (!MANY || self.members.all_admitted) {
                     return true;
                 }
+                let mut moved = false;
                 while bits != 0 {
                     let i = bits.trailing_zeros() as usize;
                     bits &= bits - 1;
@@ -167,8 +174,20 @@ impl<L: Lanes, K: Kernel<L>, const MANY: bool> Leaf<L> for Prims<'_, L, K, MANY>
                             return true;
                         }
                         *best = Some(hit);
+                        moved = true;
                     }
                 }
+                if moved {
+                    *t_bound = bound(t_max, best);
+                }
+                sub += L::LANES;
+                if L::LANES >= BLOCK || sub >= in_block {
+                    break;
+                }
+            }
+            at += BLOCK;
+            if at >= end {
+                break;
             }
         }
         false
@@ -318,7 +337,9 @@ pub(super) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
         count: start.1,
         near: f32::NEG_INFINITY,
     });
-    let mut cull = f32_bound(bound(t_max, best));
+    // The kernels' `t_max` ([`bound`]: the best hit's `t` loosened) and the box tests' bound.
+    let mut t_bound = bound(t_max, best);
+    let mut cull = f32_bound(t_bound);
     loop {
         let e = match cur.take() {
             Some(e) => e,
@@ -335,13 +356,14 @@ pub(super) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
                 e.count as usize,
                 rl,
                 best,
+                &mut t_bound,
                 filter,
                 ray_id,
             );
             if ANY && found {
                 return true;
             }
-            cull = f32_bound(bound(t_max, best));
+            cull = f32_bound(t_bound);
             continue;
         }
         let node = &nodes[e.child as usize];
