@@ -11,9 +11,6 @@
 //! The header `include/octoray.h` is generated from this file by cbindgen (`tests/header.rs`
 //! fails when it is stale).
 use core::ffi::c_char;
-use std::cell::RefCell;
-use std::ffi::CString;
-use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use octoray::glam::{Affine3A, Mat3A, Vec3, Vec3A};
 use octoray::hit::Hit;
@@ -23,6 +20,7 @@ use octoray::prim::{PackedSphere, PackedTriangle, Ray, RayLanes, VertexTriangle}
 use octoray::scene::{Scene, SceneRef, Trace, Transform};
 use octoray::{f32x16, f32x8};
 
+mod status;
 mod store;
 
 /// What a call answered.
@@ -250,37 +248,22 @@ enum View<'a> {
     Vertex(SceneRef<'a, VertexTriangle, PackedSphere>),
 }
 
-thread_local! {
-    static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
-}
-
 /// Records `message` as this thread's last error and answers `status`.
 fn fail(status: OctorayStatus, message: impl Into<String>) -> OctorayStatus {
-    let text = message.into().replace('\0', " ");
-    LAST_ERROR.with(|e| *e.borrow_mut() = CString::new(text).unwrap_or_default());
+    status::record(message.into());
     status
 }
 
 /// Runs `body`, turning a panic into [`OctorayStatus::Panic`] with its message.
 fn guard(body: impl FnOnce() -> OctorayStatus) -> OctorayStatus {
-    match catch_unwind(AssertUnwindSafe(body)) {
-        Ok(s) => s,
-        Err(p) => {
-            let what = p
-                .downcast_ref::<&str>()
-                .map(|s| s.to_string())
-                .or_else(|| p.downcast_ref::<String>().cloned())
-                .unwrap_or_else(|| "unknown panic".into());
-            fail(OctorayStatus::Panic, format!("octoray panicked: {what}"))
-        }
-    }
+    status::catch(body).unwrap_or(OctorayStatus::Panic)
 }
 
 /// The message of the last failed call on this thread (empty after none), valid until the next
 /// failing call on this thread. Never null.
 #[no_mangle]
 pub extern "C" fn octoray_last_error() -> *const c_char {
-    LAST_ERROR.with(|e| e.borrow().as_ptr())
+    status::last()
 }
 
 /// Creates an empty scene whose triangles are tested with `tier` (an [`OctorayTier`] value).
@@ -1096,27 +1079,4 @@ pub unsafe extern "C" fn octoray_scene_tier(
         unsafe { put(out, s.tier as u32) };
         Ok(())
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_panic_is_a_status_with_its_message() {
-        let s = guard(|| panic!("deliberate"));
-        assert_eq!(s, OctorayStatus::Panic);
-        // SAFETY: `octoray_last_error` returns a valid NUL-terminated string.
-        let msg = unsafe { std::ffi::CStr::from_ptr(octoray_last_error()) };
-        assert_eq!(msg.to_str(), Ok("octoray panicked: deliberate"));
-        assert_eq!(guard(|| OctorayStatus::Ok), OctorayStatus::Ok);
-    }
-
-    #[test]
-    fn a_message_with_a_nul_is_kept() {
-        fail(OctorayStatus::InvalidArgument, "a\0b");
-        // SAFETY: as above.
-        let msg = unsafe { std::ffi::CStr::from_ptr(octoray_last_error()) };
-        assert_eq!(msg.to_str(), Ok("a b"));
-    }
 }
