@@ -20,7 +20,7 @@ fi
 
 # The test profile and the workspace's feature set: what `cargo test --workspace` built already
 # (a narrower selection would resolve other features and rebuild the demo).
-cargo build --quiet --profile test --workspace --lib --examples
+cargo build --quiet --profile test --workspace --lib --bins --examples
 lib=target/debug/liboctoray_capi.a
 out=target/capi
 mkdir -p "$out"
@@ -46,7 +46,7 @@ echo "ok: C and C++ through the C ABI print the Rust API's answers and digests a
 size=160x100
 for tier in standard:0 watertight:1 exact:2; do
   name=${tier%%:*} num=${tier##*:}
-  demo=$(target/debug/examples/render --size "$size" --tier "$name" --output "$out/demo-$name.png" \
+  demo=$(target/debug/render --size "$size" --tier "$name" --output "$out/demo-$name.png" \
     --export "$out/demo-$name" | sed -n 's/^  digest *\(0x[0-9a-f]*\).*/\1/p')
   for prog in trace-c trace-cpp; do
     line=$("$out/$prog" demo "$out/demo-$name" "$num" "${size%x*}" "$out/demo-$name-$prog.ppm")

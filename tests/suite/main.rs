@@ -32,8 +32,6 @@ mod queries;
 #[cfg(not(octoray_isa_slice))]
 mod recommend;
 #[cfg(not(octoray_isa_slice))]
-mod render;
-#[cfg(not(octoray_isa_slice))]
 mod scene;
 #[cfg(not(octoray_isa_slice))]
 mod watertight;

@@ -4,19 +4,16 @@
 //! rays traced in packets on all cores through one two-level scene, written to a PNG, with a
 //! summary of what it cost and which accuracy tier it used and why.
 //!
-//! Run: `cargo run --release --example render` (then open `render.png`).
+//! Run: `cargo run --release --bin render` (then open `render.png`).
 //! Options: `--size WxH` (640x400), `--output PATH` (render.png), `--tier auto|standard|
 //! watertight|f64|watertight-f64` (auto), `--lanes 4|8|16` (8), `--obj PATH` (replaces the icosphere),
-//! `--export DIR` (the scene and primary rays for the C ABI's `render` example).
+//! `--export DIR` (the scene and primary rays for the C ABI's examples, `capi/examples/trace.c`).
 //! Triangles and spheres are geometries of one scene (8-wide BVHs under a top-level tree over
 //! the instances; built once, timed and reported), traced by one query per ray set.
 
-mod cli;
-mod scene;
-
-use cli::{parse, scene_for, USAGE};
 use indicatif::{ProgressBar, ProgressStyle};
-use scene::{export, render, resolve_tier, write_png};
+use octoray_demo::cli::{self, parse, scene_for, USAGE};
+use octoray_demo::scene::{export, render, resolve_tier, write_png};
 use std::process::ExitCode;
 use std::time::Instant;
 

@@ -1,6 +1,4 @@
-//! The demo's embedded scene and its packet tracer, shared by `examples/render` and
-//! `tests/suite/render.rs`.
-#![allow(dead_code)]
+//! The demo's embedded scene and its packet tracer.
 
 use octoray::glam::{Affine3A, DVec3, Quat, Vec3};
 use octoray::hit::Hit;
@@ -20,15 +18,22 @@ use wide::{f64x4, f64x8};
 /// Which tier traces the triangles (`auto` asks the recommender).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TierArg {
+    /// The recommender picks from the scene's extent and degenerate triangles.
     Auto,
+    /// Möller-Trumbore at f32.
     Standard,
+    /// The watertight test at f32.
     Watertight,
+    /// Möller-Trumbore at f64.
     F64,
+    /// The watertight test at f64.
     WatertightF64,
+    /// Exact edge signs and range.
     Exact,
 }
 
 impl TierArg {
+    /// The tier a `--tier` value names.
     pub fn parse(s: &str) -> Option<Self> {
         Some(match s {
             "auto" => Self::Auto,
@@ -40,6 +45,7 @@ impl TierArg {
             _ => return None,
         })
     }
+    /// The `--tier` value naming this tier.
     pub fn name(self) -> &'static str {
         match self {
             Self::Auto => "auto",
@@ -55,17 +61,23 @@ impl TierArg {
 /// A scene: triangles (a mesh of one or more models plus a ground quad), spheres, each with a
 /// colour, and a field of instances of the mesh.
 pub struct Scene {
+    /// Every triangle's vertices: the mesh's, then the ground's.
     pub tris: Vec<[Vec3; 3]>,
+    /// Each triangle's colour.
     pub tri_color: Vec<Vec3>,
     /// Where each model of the mesh starts in `tris` (`[0]`: one model); each is a geometry.
     pub mesh_groups: Vec<usize>,
     /// Object → world placements of more instances of the mesh (all its models).
     pub field: Vec<Affine3A>,
+    /// Each sphere's centre and radius.
     pub spheres: Vec<(Vec3, f32)>,
+    /// Each sphere's colour.
     pub sphere_color: Vec<Vec3>,
     /// Unit direction towards the sun.
     pub light: Vec3,
+    /// Camera position.
     pub eye: Vec3,
+    /// The point the camera looks at.
     pub target: Vec3,
     /// Vertical field of view, radians.
     pub fov: f32,
@@ -334,29 +346,43 @@ fn is_degenerate(t: &[Vec3; 3]) -> bool {
 /// What a pixel's primary ray found (for tests and the summary).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PixelKind {
+    /// Nothing hit.
     Sky,
+    /// The mesh (in place, not the field's copies).
     Mesh {
+        /// The sun is hidden from the hit point.
         shadowed: bool,
     },
     /// One of the field's instances of the mesh.
     Field {
+        /// The sun is hidden from the hit point.
         shadowed: bool,
     },
+    /// The ground quad.
     Ground {
+        /// The sun is hidden from the hit point.
         shadowed: bool,
     },
+    /// A sphere.
     Sphere {
+        /// Which sphere (its index in [`Scene::spheres`]).
         index: u32,
+        /// The sun is hidden from the hit point.
         shadowed: bool,
     },
 }
 
 /// A rendered image.
 pub struct Image {
+    /// Width, pixels.
     pub width: u32,
+    /// Height, pixels.
     pub height: u32,
+    /// 8-bit RGB, row by row from the top.
     pub rgb: Vec<u8>,
+    /// What each pixel's primary ray found, row by row from the top.
     pub kinds: Vec<PixelKind>,
+    /// Rays traced (primary, shadow and ambient occlusion).
     pub rays: u64,
     /// Seconds to build the scene (its trees and the top level, all threads).
     pub build_secs: f64,

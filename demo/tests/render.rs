@@ -1,14 +1,9 @@
 //! The demo renderer on its embedded scene at a small size: known pixels are hit, missed or
 //! shadowed as the geometry dictates, for every tier; OBJ input and the command line fail with
 //! messages, not panics.
-#![cfg(all(feature = "triangle", feature = "sphere", feature = "alloc"))]
 
-#[path = "../../examples/render/cli.rs"]
-mod cli;
-#[path = "../../examples/render/scene.rs"]
-mod scene;
-
-use glam::Vec3;
+use octoray::glam::Vec3;
+use octoray_demo::{cli, scene};
 use scene::{render, resolve_tier, PixelKind, Scene, TierArg};
 
 const W: u32 = 120;

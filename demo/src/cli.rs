@@ -1,18 +1,25 @@
-//! The demo's command line and scene loading (shared with `tests/suite/render.rs`).
-#![allow(dead_code)]
+//! The demo's command line: options, the scene they name, the output file.
 
-use super::scene::{Scene, TierArg};
+use crate::scene::{Scene, TierArg};
 use octoray::glam::Vec3;
 use std::path::PathBuf;
 
+/// The `--help` text.
 pub const USAGE: &str = "usage: render [--size WxH] [--output PATH] [--tier auto|standard|watertight|exact|f64|watertight-f64] [--lanes 4|8|16] [--obj PATH] [--camera X,Y,Z] [--look-at X,Y,Z] [--fov DEGREES] [--ao N] [--export DIR]\n  --obj alone fits the mesh into the default scene; with --camera the mesh stays where it is (no ground quad) and the camera looks from X,Y,Z\n  --ao N: N ambient-occlusion rays per pixel (0..=256; 0, the default, shades with a constant ambient term)\n  --export DIR: also writes the traced scene (DIR/scene.bin, octoray's stored scene) and the primary rays (DIR/rays.bin, 8 little-endian f32 per ray: origin, direction, t_min, t_max; row by row) for the C ABI's examples (standard, watertight and exact tiers)";
 
+/// The parsed command line.
 pub struct Options {
+    /// Image width, pixels.
     pub width: u32,
+    /// Image height, pixels.
     pub height: u32,
+    /// The PNG to write.
     pub output: PathBuf,
+    /// The tier that traces the triangles.
     pub tier: TierArg,
+    /// Rays per packet: 4, 8 or 16.
     pub lanes: u32,
+    /// A Wavefront OBJ mesh that replaces the icosphere.
     pub obj: Option<PathBuf>,
     /// Camera position; with it, an OBJ mesh is kept in place.
     pub camera: Option<Vec3>,
