@@ -2,12 +2,19 @@
 //! rays, and the same printed line. `.ci/capi.sh` checks that the C and C++ programs print what
 //! this prints, so the C ABI answers what the Rust API answers, bit for bit. Takes the tier as
 //! its argument (0 standard, 1 watertight, 2 exact; default 1).
+//!
+//! `digest demo DIR TIER WIDTH HEIGHT` exports the demo's embedded scene as that tier traces it,
+//! and the primary rays of a WIDTH×HEIGHT image, to `DIR` (what `render --export DIR` writes),
+//! and prints the digest of their primary hits through the Rust API on the stored scene (the
+//! demo's tests check that it is the digest the demo's render prints); `trace.c demo` must
+//! print the same.
 use octoray::f32x8;
 use octoray::glam::{Affine3A, Mat3A, Vec3, Vec3A};
 use octoray::hit::Hit;
 use octoray::kernels::{Exact, Kernel, MollerTrumbore, StableSphere, Watertight};
 use octoray::prim::{PackedSphere, PackedTriangle, Primitive, Ray, VertexTriangle};
 use octoray::scene::{Scene, Trace, Transform};
+use octoray_demo::scene::{stored_digest, TierArg};
 
 const GRID: u32 = 24;
 const WIDTH: u32 = 64;
@@ -119,9 +126,37 @@ where
     );
 }
 
+/// The `demo` mode (module doc).
+fn demo(args: &[String]) {
+    let [dir, tier, w, h] = args else {
+        panic!("digest demo DIR TIER WIDTH HEIGHT");
+    };
+    let dir = std::path::Path::new(dir);
+    let size = |s: &str| s.parse::<u32>().expect("a size in pixels");
+    let (w, h) = (size(w), size(h));
+    let scene = octoray_demo::scene::Scene::default_scene();
+    let tier = match tier.as_str() {
+        "0" => TierArg::Standard,
+        "1" => TierArg::Watertight,
+        "2" => TierArg::Exact,
+        _ => panic!("a tier: 0, 1 or 2"),
+    };
+    octoray_demo::scene::export(&scene, tier, w, h, dir).expect("export");
+    let digest = match tier {
+        TierArg::Standard => stored_digest::<f32x8, MollerTrumbore>(dir),
+        TierArg::Watertight => stored_digest::<f32x8, Watertight>(dir),
+        _ => stored_digest::<f32x8, Exact>(dir),
+    };
+    println!("0x{:016x}", digest.expect("the stored scene"));
+}
+
 fn main() {
-    let tier = std::env::args()
-        .nth(1)
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.first().map(String::as_str) == Some("demo") {
+        return demo(&args[1..]);
+    }
+    let tier = args
+        .first()
         .map_or(1, |a| a.parse().expect("a tier: 0, 1 or 2"));
     match tier {
         0 => run::<_, MollerTrumbore>(0, PackedTriangle::new),

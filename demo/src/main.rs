@@ -12,10 +12,36 @@
 //! the instances; built once, timed and reported), traced by one query per ray set.
 
 use indicatif::{ProgressBar, ProgressStyle};
+use octoray::kernels::{Exact, MollerTrumbore, Watertight};
+use octoray::{f32x16, f32x4, f32x8};
 use octoray_demo::cli::{self, parse, scene_for, USAGE};
-use octoray_demo::scene::{export, render, resolve_tier, write_png};
+use octoray_demo::scene::{
+    export, render_with, resolve_tier, write_png, F64Width, Image, Scene, Tracer, Width,
+};
 use std::process::ExitCode;
 use std::time::Instant;
+use wide::{f64x4, f64x8};
+
+/// Renders with the instantiation of [`render_with`] that `tracer` names: the only place the
+/// demo instantiates every tier at every width (the library's tests instantiate what they test).
+fn render(scene: &Scene, tracer: Tracer, w: u32, h: u32, progress: &(dyn Fn(u64) + Sync)) -> Image {
+    use {F64Width as D, Tracer as T, Width as S};
+    match tracer {
+        T::Standard(S::X4) => render_with::<f32x4, MollerTrumbore>(scene, w, h, progress),
+        T::Standard(S::X8) => render_with::<f32x8, MollerTrumbore>(scene, w, h, progress),
+        T::Standard(S::X16) => render_with::<f32x16, MollerTrumbore>(scene, w, h, progress),
+        T::Watertight(S::X4) => render_with::<f32x4, Watertight>(scene, w, h, progress),
+        T::Watertight(S::X8) => render_with::<f32x8, Watertight>(scene, w, h, progress),
+        T::Watertight(S::X16) => render_with::<f32x16, Watertight>(scene, w, h, progress),
+        T::Exact(S::X4) => render_with::<f32x4, Exact>(scene, w, h, progress),
+        T::Exact(S::X8) => render_with::<f32x8, Exact>(scene, w, h, progress),
+        T::Exact(S::X16) => render_with::<f32x16, Exact>(scene, w, h, progress),
+        T::F64(D::X4) => render_with::<f64x4, MollerTrumbore>(scene, w, h, progress),
+        T::F64(D::X8) => render_with::<f64x8, MollerTrumbore>(scene, w, h, progress),
+        T::WatertightF64(D::X4) => render_with::<f64x4, Watertight>(scene, w, h, progress),
+        T::WatertightF64(D::X8) => render_with::<f64x8, Watertight>(scene, w, h, progress),
+    }
+}
 
 fn flags() -> &'static str {
     if cfg!(target_feature = "avx512f") {
@@ -54,6 +80,13 @@ fn main() -> ExitCode {
             return ExitCode::from(1);
         }
     };
+    let tracer = match Tracer::new(tier, lanes) {
+        Ok(t) => t,
+        Err(msg) => {
+            eprintln!("render: {msg}\n{USAGE}");
+            return ExitCode::from(2);
+        }
+    };
     // The output is checked before tracing (see `cli::open_output`).
     let out_file = match cli::open_output(&o) {
         Ok(f) => f,
@@ -73,14 +106,7 @@ fn main() -> ExitCode {
         ProgressStyle::with_template("{bar:40} {pos}/{len} rows {elapsed}").expect("template"),
     );
     let start = Instant::now();
-    let img = match render(&scene, tier, lanes, o.width, o.height, &|n| bar.inc(n)) {
-        Ok(img) => img,
-        Err(msg) => {
-            bar.abandon();
-            eprintln!("render: {msg}\n{USAGE}");
-            return ExitCode::from(2);
-        }
-    };
+    let img = render(&scene, tracer, o.width, o.height, &|n| bar.inc(n));
     let secs = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
     if let Err(msg) = write_png(&img, out_file, &o.output) {

@@ -2,18 +2,17 @@
 
 use octoray::glam::{Affine3A, DVec3, Quat, Vec3};
 use octoray::hit::Hit;
-use octoray::kernels::{Exact, Kernel, MollerTrumbore, StableSphere, Watertight};
+use octoray::ingest;
+use octoray::kernels::{Kernel, StableSphere};
 use octoray::lanes::Lanes;
 use octoray::prim::{PackedSphere, PackedTriangle, Primitive, Ray, Sphere, VertexTriangle};
 use octoray::recommend::{recommend, Recommendation, SceneSpec, TierChoice};
 use octoray::scene::{Trace, Transform};
 use octoray::shading::Shade;
-use octoray::{f32x16, f32x4, f32x8, ingest};
 use octoray_testkit::camera::Pinhole;
 use rayon::prelude::*;
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
-use wide::{f64x4, f64x8};
 
 /// Which tier traces the triangles (`auto` asks the recommender).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -419,34 +418,34 @@ fn fnv(words: impl Iterator<Item = u32>) -> u64 {
     })
 }
 
-/// The primitives in the layouts the kernels read.
-pub struct Prims {
-    packed: Vec<PackedTriangle>,
-    verts: Vec<VertexTriangle>,
-    spheres: Vec<PackedSphere>,
+/// A triangle layout the demo traces, made from a triangle's three vertices.
+pub trait Triangles: Primitive + Sync {
+    /// The layout of the triangle `v`.
+    fn from_vertices(v: &[Vec3; 3]) -> Self;
 }
 
-impl Prims {
-    /// The scene's primitives in every layout.
-    fn new(scene: &Scene) -> Self {
-        Prims {
-            packed: scene
-                .tris
-                .iter()
-                .map(|t| PackedTriangle::new(t[0], t[1], t[2]))
-                .collect(),
-            verts: scene
-                .tris
-                .iter()
-                .map(|t| VertexTriangle::new(t[0], t[1], t[2]))
-                .collect(),
-            spheres: scene
-                .spheres
-                .iter()
-                .map(|&(c, r)| PackedSphere::new(c, r))
-                .collect(),
-        }
+impl Triangles for PackedTriangle {
+    fn from_vertices(v: &[Vec3; 3]) -> Self {
+        PackedTriangle::new(v[0], v[1], v[2])
     }
+}
+
+impl Triangles for VertexTriangle {
+    fn from_vertices(v: &[Vec3; 3]) -> Self {
+        VertexTriangle::new(v[0], v[1], v[2])
+    }
+}
+
+/// The scene's triangles in layout `T` and its spheres.
+fn primitives<T: Triangles>(scene: &Scene) -> (Vec<T>, Vec<PackedSphere>) {
+    (
+        scene.tris.iter().map(T::from_vertices).collect(),
+        scene
+            .spheres
+            .iter()
+            .map(|&(c, r)| PackedSphere::new(c, r))
+            .collect(),
+    )
 }
 
 fn sky(d: Vec3) -> Vec3 {
@@ -544,24 +543,20 @@ impl<T: Primitive + Sync> Traced<T> {
     }
 }
 
-/// Renders with triangle kernel `K` and the stable sphere kernel at lane width `L`.
-fn render_with<L, K>(
-    scene: &Scene,
-    prims: &Prims,
-    tris: &[K::Prim],
-    w: u32,
-    h: u32,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Image
+/// Renders `scene` at `w`×`h` with triangle kernel `K` and the stable sphere kernel at lane
+/// width `L` (a [`Tracer`] names the pairs the `render` binary offers). `progress` is called
+/// once per finished row.
+pub fn render_with<L, K>(scene: &Scene, w: u32, h: u32, progress: &(dyn Fn(u64) + Sync)) -> Image
 where
     L: Lanes,
     K: Kernel<L>,
-    K::Prim: Primitive + Sync,
+    K::Prim: Triangles,
     StableSphere: Kernel<L, Prim = PackedSphere>,
 {
+    let (tris, spheres) = primitives::<K::Prim>(scene);
     let start = std::time::Instant::now();
     // The trees' binary SAH builds on rayon's threads (the same trees as one thread's).
-    let traced = Traced::new(scene, tris, &prims.spheres);
+    let traced = Traced::new(scene, &tris, &spheres);
     let build_secs = start.elapsed().as_secs_f64();
     let world = traced.world.as_ref();
     let start = std::time::Instant::now();
@@ -727,16 +722,16 @@ where
 /// little-endian) and the primary rays of a `w`×`h` image to `dir/rays.bin` (origin,
 /// direction, `t_min`, `t_max` as little-endian f32, row by row).
 pub fn export(scene: &Scene, tier: TierArg, w: u32, h: u32, dir: &Path) -> Result<(), String> {
-    let prims = Prims::new(scene);
+    fn words<T: Triangles>(scene: &Scene) -> Vec<u32> {
+        let (tris, spheres) = primitives::<T>(scene);
+        Traced::new(scene, &tris, &spheres)
+            .world
+            .as_ref()
+            .to_words()
+    }
     let words = match tier {
-        TierArg::Standard => Traced::new(scene, &prims.packed, &prims.spheres)
-            .world
-            .as_ref()
-            .to_words(),
-        TierArg::Watertight | TierArg::Exact => Traced::new(scene, &prims.verts, &prims.spheres)
-            .world
-            .as_ref()
-            .to_words(),
+        TierArg::Standard => words::<PackedTriangle>(scene),
+        TierArg::Watertight | TierArg::Exact => words::<VertexTriangle>(scene),
         t => return Err(format!("--export: the C ABI has no {} tier", t.name())),
     };
     let rays = (0..h)
@@ -761,65 +756,108 @@ pub fn export(scene: &Scene, tier: TierArg, w: u32, h: u32, dir: &Path) -> Resul
     Ok(())
 }
 
-/// Renders `scene` at `w`×`h` with `tier` (already resolved, not `Auto`) at `lanes` ∈ {4, 8,
-/// 16} (f64: 4 or 8). `progress` is called once per finished row.
-pub fn render(
-    scene: &Scene,
-    tier: TierArg,
-    lanes: u32,
-    w: u32,
-    h: u32,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<Image, String> {
-    let prims = Prims::new(scene);
-    Ok(match (tier, lanes) {
-        (TierArg::Standard, 4) => {
-            render_with::<f32x4, MollerTrumbore>(scene, &prims, &prims.packed, w, h, progress)
-        }
-        (TierArg::Standard, 8) => {
-            render_with::<f32x8, MollerTrumbore>(scene, &prims, &prims.packed, w, h, progress)
-        }
-        (TierArg::Standard, 16) => {
-            render_with::<f32x16, MollerTrumbore>(scene, &prims, &prims.packed, w, h, progress)
-        }
-        (TierArg::Watertight, 4) => {
-            render_with::<f32x4, Watertight>(scene, &prims, &prims.verts, w, h, progress)
-        }
-        (TierArg::Watertight, 8) => {
-            render_with::<f32x8, Watertight>(scene, &prims, &prims.verts, w, h, progress)
-        }
-        (TierArg::Watertight, 16) => {
-            render_with::<f32x16, Watertight>(scene, &prims, &prims.verts, w, h, progress)
-        }
-        (TierArg::Exact, 4) => {
-            render_with::<f32x4, Exact>(scene, &prims, &prims.verts, w, h, progress)
-        }
-        (TierArg::Exact, 8) => {
-            render_with::<f32x8, Exact>(scene, &prims, &prims.verts, w, h, progress)
-        }
-        (TierArg::Exact, 16) => {
-            render_with::<f32x16, Exact>(scene, &prims, &prims.verts, w, h, progress)
-        }
-        (TierArg::F64, 4) => {
-            render_with::<f64x4, MollerTrumbore>(scene, &prims, &prims.packed, w, h, progress)
-        }
-        (TierArg::F64, 8) => {
-            render_with::<f64x8, MollerTrumbore>(scene, &prims, &prims.packed, w, h, progress)
-        }
-        (TierArg::WatertightF64, 4) => {
-            render_with::<f64x4, Watertight>(scene, &prims, &prims.verts, w, h, progress)
-        }
-        (TierArg::WatertightF64, 8) => {
-            render_with::<f64x8, Watertight>(scene, &prims, &prims.verts, w, h, progress)
-        }
-        (TierArg::F64 | TierArg::WatertightF64, l) => {
-            return Err(format!(
-                "the f64 tiers run 4 or 8 lanes (f64x4, f64x8), not {l}"
-            ))
-        }
-        (TierArg::Auto, _) => return Err("resolve the auto tier first".into()),
-        (_, l) => return Err(format!("lanes must be 4, 8 or 16, not {l}")),
-    })
+/// The digest of the primary hits (as [`Image::digest`]) of the scene and rays that [`export`]
+/// wrote to `dir`, read back as a stored scene (`SceneRef::from_words`, validated) and traced
+/// with triangle kernel `K` and the stable sphere kernel at lane width `L`: for the tier the
+/// scene was exported for, what the demo's render of it prints, and what the C ABI's examples
+/// must print for the same files.
+pub fn stored_digest<L, K>(dir: &Path) -> Result<u64, String>
+where
+    L: Lanes,
+    K: Kernel<L>,
+    K::Prim: Triangles,
+    StableSphere: Kernel<L, Prim = PackedSphere>,
+{
+    let read = |name: &str| -> Result<Vec<u32>, String> {
+        let path = dir.join(name);
+        let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(bytes
+            .chunks_exact(4)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect())
+    };
+    let words = read("scene.bin")?;
+    let world = octoray::scene::SceneRef::<K::Prim, PackedSphere>::from_words(&words)
+        .map_err(|e| format!("scene.bin: {e}"))?;
+    let rays: Vec<Ray> = read("rays.bin")?
+        .chunks_exact(8)
+        .map(|r| {
+            let f = |i: usize| f32::from_bits(r[i]);
+            Ray::with_range(
+                Vec3::new(f(0), f(1), f(2)),
+                Vec3::new(f(3), f(4), f(5)),
+                f(6),
+                f(7),
+            )
+        })
+        .collect();
+    let mut hits = vec![None; rays.len()];
+    world.closest::<L, K, StableSphere>(&rays, !0, &mut hits);
+    Ok(fnv(hits.into_iter().flat_map(hit_words)))
+}
+
+/// Packets of 4, 8 or 16 f32 lanes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Width {
+    /// `f32x4`.
+    X4,
+    /// `f32x8`.
+    X8,
+    /// `f32x16`.
+    X16,
+}
+
+/// Packets of 4 or 8 f64 lanes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum F64Width {
+    /// `f64x4`.
+    X4,
+    /// `f64x8`.
+    X8,
+}
+
+/// What a render traces with: a resolved tier at a packet width (`--tier`, `--lanes`). The
+/// `render` binary holds one [`render_with`] instantiation per value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Tracer {
+    /// Möller-Trumbore at f32.
+    Standard(Width),
+    /// The watertight test at f32.
+    Watertight(Width),
+    /// Exact edge signs and range.
+    Exact(Width),
+    /// Möller-Trumbore at f64.
+    F64(F64Width),
+    /// The watertight test at f64.
+    WatertightF64(F64Width),
+}
+
+impl Tracer {
+    /// `tier` (already resolved, not `Auto`) at `lanes` ∈ {4, 8, 16} (f64: 4 or 8); an error
+    /// says which part is not offered.
+    pub fn new(tier: TierArg, lanes: u32) -> Result<Self, String> {
+        let f64_width = |tier: &str| match lanes {
+            4 => Ok(F64Width::X4),
+            8 => Ok(F64Width::X8),
+            l => Err(format!(
+                "the {tier} tier runs 4 or 8 lanes (f64x4, f64x8), not {l}"
+            )),
+        };
+        let width = match lanes {
+            4 => Ok(Width::X4),
+            8 => Ok(Width::X8),
+            16 => Ok(Width::X16),
+            l => Err(format!("lanes must be 4, 8 or 16, not {l}")),
+        };
+        Ok(match tier {
+            TierArg::Standard => Self::Standard(width?),
+            TierArg::Watertight => Self::Watertight(width?),
+            TierArg::Exact => Self::Exact(width?),
+            TierArg::F64 => Self::F64(f64_width("f64")?),
+            TierArg::WatertightF64 => Self::WatertightF64(f64_width("watertight-f64")?),
+            TierArg::Auto => return Err("resolve the auto tier first".into()),
+        })
+    }
 }
 
 /// Resolves `auto` through the recommender; the report says why. With `auto`, an f64 tier's

@@ -1,10 +1,15 @@
 //! The demo renderer on its embedded scene at a small size: known pixels are hit, missed or
-//! shadowed as the geometry dictates, for every tier; OBJ input and the command line fail with
+//! shadowed as the geometry dictates, at the standard, watertight and f64 tiers; OBJ input and the command line fail with
 //! messages, not panics.
 
+use crate::cli;
+use crate::scene::{
+    self, render_with, resolve_tier, F64Width, PixelKind, Scene, TierArg, Tracer, Width,
+};
 use octoray::glam::Vec3;
-use octoray_demo::{cli, scene};
-use scene::{render, resolve_tier, PixelKind, Scene, TierArg};
+use octoray::kernels::{MollerTrumbore, Watertight};
+use octoray::{f32x16, f32x4, f32x8};
+use wide::f64x4;
 
 const W: u32 = 120;
 const H: u32 = 75;
@@ -27,14 +32,24 @@ fn known_pixels_are_hit_missed_and_shadowed_as_the_geometry_dictates() {
     let (c, _) = s.spheres[0];
     let shadow = s.project(c - s.light * (c.y / s.light.y), W, H).unwrap();
     let lit_ground = s.project(Vec3::new(-2.5, 0.0, 2.5), W, H).unwrap();
-    for (tier, lanes) in [
-        (TierArg::Standard, 8),
-        (TierArg::Watertight, 16),
-        (TierArg::Standard, 4),
-        (TierArg::F64, 4),
+    for (what, img) in [
+        (
+            "standard x8",
+            render_with::<f32x8, MollerTrumbore>(&s, W, H, &|_| {}),
+        ),
+        (
+            "watertight x16",
+            render_with::<f32x16, Watertight>(&s, W, H, &|_| {}),
+        ),
+        (
+            "standard x4",
+            render_with::<f32x4, MollerTrumbore>(&s, W, H, &|_| {}),
+        ),
+        (
+            "f64 x4",
+            render_with::<f64x4, MollerTrumbore>(&s, W, H, &|_| {}),
+        ),
     ] {
-        let img = render(&s, tier, lanes, W, H, &|_| {}).unwrap();
-        let what = format!("{tier:?} x{lanes}");
         assert_eq!(
             kind_at(&img, (0, 0)),
             PixelKind::Sky,
@@ -112,7 +127,7 @@ fn obj_meshes_load_and_bad_ones_are_errors() {
     .unwrap();
     let s = cli::load_scene(&Some(tetra)).unwrap();
     assert_eq!(s.mesh_tris, 4);
-    let img = render(&s, TierArg::Standard, 8, 40, 25, &|_| {}).unwrap();
+    let img = render_with::<f32x8, MollerTrumbore>(&s, 40, 25, &|_| {});
     assert!(
         img.kinds
             .iter()
@@ -155,12 +170,22 @@ fn bad_options_get_clear_messages() {
         let err = cli::parse(&args(bad)).err().unwrap();
         assert!(err.contains(says), "{bad}: {err}");
     }
-    // f64 has no 16-lane form: a message, not a panic.
-    let s = Scene::default_scene();
-    assert!(render(&s, TierArg::F64, 16, 8, 8, &|_| {})
-        .err()
-        .unwrap()
-        .contains("4 or 8 lanes"));
+    // f64 has no 16-lane form, a resolved tier has a width, `auto` is resolved first: messages,
+    // not panics; every other pair names its instantiation.
+    for (tier, lanes, says) in [
+        (TierArg::F64, 16, "4 or 8 lanes"),
+        (TierArg::WatertightF64, 2, "4 or 8 lanes"),
+        (TierArg::Exact, 7, "4, 8 or 16"),
+        (TierArg::Auto, 8, "resolve the auto tier"),
+    ] {
+        let err = Tracer::new(tier, lanes).unwrap_err();
+        assert!(err.contains(says), "{tier:?} x{lanes}: {err}");
+    }
+    assert_eq!(
+        Tracer::new(TierArg::WatertightF64, 8),
+        Ok(Tracer::WatertightF64(F64Width::X8))
+    );
+    assert_eq!(Tracer::new(TierArg::Exact, 4), Ok(Tracer::Exact(Width::X4)));
 }
 
 /// Writes `text` to a fresh OBJ file in a per-test folder.
@@ -200,7 +225,7 @@ fn meshes_that_cannot_be_placed_are_errors_and_extreme_ones_are_placed() {
             .map(|p| (*p - octoray::glam::Vec3::Y).length())
             .fold(0.0f32, f32::max);
         assert!((0.5..=1.01).contains(&r), "{name}: placed at radius {r}");
-        let img = render(&sc, TierArg::Watertight, 8, 40, 25, &|_| {}).unwrap();
+        let img = render_with::<f32x8, Watertight>(&sc, 40, 25, &|_| {});
         assert!(
             img.kinds
                 .iter()
@@ -219,7 +244,9 @@ fn degenerate_faces_are_counted_and_left_out_of_the_tier_estimate() {
     assert_eq!(sc.degenerate_triangles(), 1);
     let (tier, lanes, why) = resolve_tier(&sc, TierArg::Auto, 16).unwrap();
     assert_eq!((tier, lanes), (TierArg::Watertight, 16), "{why}");
-    render(&sc, tier, lanes, 16, 10, &|_| {}).unwrap();
+    assert_eq!(Tracer::new(tier, lanes), Ok(Tracer::Watertight(Width::X16)));
+    let img = render_with::<f32x16, Watertight>(&sc, 16, 10, &|_| {});
+    assert_eq!(img.kinds.len(), 160);
 }
 
 #[test]
@@ -264,7 +291,7 @@ fn camera_options_parse_and_keep_the_mesh_in_place() {
         octoray::glam::Vec3::splat(5.0),
         "kept at its own coordinates"
     );
-    let img = render(&sc, TierArg::Watertight, 8, 20, 20, &|_| {}).unwrap();
+    let img = render_with::<f32x8, Watertight>(&sc, 20, 20, &|_| {});
     assert!(matches!(img.kinds[10 * 20 + 10], PixelKind::Mesh { .. }));
     for (bad, says) in [
         ("--camera 1,2", "X,Y,Z"),
@@ -300,7 +327,7 @@ fn a_png_that_cannot_be_written_is_an_error_at_every_size() {
     // With --output /dev/full, 16x16 and 64x64 images reported success: the buffered writer's
     // last write error was dropped. 640x400 failed (its writes overflowed the buffer).
     for (w, h) in [(16, 16), (64, 64), (200, 100)] {
-        let img = render(&Scene::default_scene(), TierArg::Standard, 8, w, h, &|_| {}).unwrap();
+        let img = render_with::<f32x8, MollerTrumbore>(&Scene::default_scene(), w, h, &|_| {});
         let path = std::path::Path::new("/dev/full");
         let file = std::fs::OpenOptions::new().write(true).open(path).unwrap();
         let err = scene::write_png(&img, file, path).err();
@@ -310,15 +337,7 @@ fn a_png_that_cannot_be_written_is_an_error_at_every_size() {
         );
     }
     // A writable file still gets a whole PNG.
-    let img = render(
-        &Scene::default_scene(),
-        TierArg::Standard,
-        8,
-        16,
-        16,
-        &|_| {},
-    )
-    .unwrap();
+    let img = render_with::<f32x8, MollerTrumbore>(&Scene::default_scene(), 16, 16, &|_| {});
     let path = std::env::temp_dir().join(format!("octoray-png-{}.png", std::process::id()));
     scene::write_png(&img, std::fs::File::create(&path).unwrap(), &path).unwrap();
     let bytes = std::fs::read(&path).unwrap();
@@ -331,9 +350,9 @@ fn a_png_that_cannot_be_written_is_an_error_at_every_size() {
 fn ambient_occlusion_darkens_the_ground_next_to_the_spheres_and_nothing_else_changes() {
     // (in front of the field)
     let mut s = Scene::default_scene();
-    let flat = render(&s, TierArg::Standard, 8, W, H, &|_| {}).unwrap();
+    let flat = render_with::<f32x8, MollerTrumbore>(&s, W, H, &|_| {});
     s.ao_samples = 32;
-    let ao = render(&s, TierArg::Standard, 8, W, H, &|_| {}).unwrap();
+    let ao = render_with::<f32x8, MollerTrumbore>(&s, W, H, &|_| {});
     // The same pixels are hit and shadowed; only the ambient term changed, and more rays ran.
     assert!(flat.kinds.iter().zip(&ao.kinds).all(|(a, b)| a == b));
     assert!(
@@ -386,8 +405,8 @@ fn the_field_of_instances_is_seen_lit_and_the_same_at_every_tier() {
     let s = Scene::default_scene();
     assert_eq!(s.field.len(), 1600);
     assert!(s.virtual_triangles() > 2_000_000_000);
-    let a = render(&s, TierArg::Watertight, 8, W, H, &|_| {}).unwrap();
-    let b = render(&s, TierArg::Standard, 16, W, H, &|_| {}).unwrap();
+    let a = render_with::<f32x8, Watertight>(&s, W, H, &|_| {});
+    let b = render_with::<f32x16, MollerTrumbore>(&s, W, H, &|_| {});
     assert_eq!(a.counts, (3, 3, 1603));
     let field: Vec<bool> = a
         .kinds
@@ -419,7 +438,28 @@ fn each_obj_model_is_its_own_geometry() {
     std::fs::remove_file(&path).ok();
     assert_eq!(s.mesh_groups, vec![0, 1]);
     assert_ne!(s.tri_color[0], s.tri_color[1]);
-    let img = render(&s, TierArg::Watertight, 8, 16, 16, &|_| {}).unwrap();
+    let img = render_with::<f32x8, Watertight>(&s, 16, 16, &|_| {});
     // Two models, the ground, the spheres.
     assert_eq!(img.counts.0, 4);
+}
+
+/// What `--export` writes is the scene the demo traces: read back as a stored scene and traced
+/// with the exported rays, it gives the digest the render prints, at the standard and the
+/// watertight tier (the C ABI's examples are checked against this digest).
+#[test]
+fn the_exported_scene_traces_to_the_rendered_digest() {
+    let s = Scene::default_scene();
+    let dir = std::env::temp_dir().join(format!("octoray-export-test-{}", std::process::id()));
+    scene::export(&s, TierArg::Standard, W, H, &dir).unwrap();
+    let stored = scene::stored_digest::<f32x8, MollerTrumbore>(&dir).unwrap();
+    let rendered = render_with::<f32x8, MollerTrumbore>(&s, W, H, &|_| {});
+    assert_eq!(stored, rendered.digest, "standard");
+    scene::export(&s, TierArg::Watertight, W, H, &dir).unwrap();
+    let stored = scene::stored_digest::<f32x8, Watertight>(&dir).unwrap();
+    let rendered = render_with::<f32x8, Watertight>(&s, W, H, &|_| {});
+    assert_eq!(stored, rendered.digest, "watertight");
+    // A scene stored for the other layout is refused, not misread.
+    let err = scene::stored_digest::<f32x8, MollerTrumbore>(&dir).unwrap_err();
+    assert!(err.starts_with("scene.bin"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
 }
