@@ -14,7 +14,7 @@ use octoray::hit::Hit;
 use octoray::kernels::{Exact, Kernel, MollerTrumbore, StableSphere, Watertight};
 use octoray::prim::{PackedSphere, PackedTriangle, Primitive, Ray, VertexTriangle};
 use octoray::scene::{Scene, Trace, Transform};
-use octoray_demo::scene::{stored_digest, TierArg};
+use octoray_demo::scene::{stored_digest, TierArg, Triangles};
 
 const GRID: u32 = 24;
 const WIDTH: u32 = 64;
@@ -133,21 +133,26 @@ fn demo(args: &[String]) {
     };
     let dir = std::path::Path::new(dir);
     let size = |s: &str| s.parse::<u32>().expect("a size in pixels");
-    let (w, h) = (size(w), size(h));
-    let scene = octoray_demo::scene::Scene::default_scene();
-    let tier = match tier.as_str() {
-        "0" => TierArg::Standard,
-        "1" => TierArg::Watertight,
-        "2" => TierArg::Exact,
+    let at = (dir, size(w), size(h));
+    let digest = match tier.as_str() {
+        "0" => demo_tier::<MollerTrumbore>(TierArg::Standard, at),
+        "1" => demo_tier::<Watertight>(TierArg::Watertight, at),
+        "2" => demo_tier::<Exact>(TierArg::Exact, at),
         _ => panic!("a tier: 0, 1 or 2"),
     };
+    println!("0x{digest:016x}");
+}
+
+/// The demo's default scene stored for `tier` in `dir` as `render --export` stores it, and the
+/// digest of kernel `K`'s primary hits on the stored scene.
+fn demo_tier<K>(tier: TierArg, (dir, w, h): (&std::path::Path, u32, u32)) -> u64
+where
+    K: Kernel<f32x8>,
+    K::Prim: Triangles,
+{
+    let scene = octoray_demo::scene::Scene::default_scene();
     octoray_demo::scene::export(&scene, tier, w, h, dir).expect("export");
-    let digest = match tier {
-        TierArg::Standard => stored_digest::<f32x8, MollerTrumbore>(dir),
-        TierArg::Watertight => stored_digest::<f32x8, Watertight>(dir),
-        _ => stored_digest::<f32x8, Exact>(dir),
-    };
-    println!("0x{:016x}", digest.expect("the stored scene"));
+    stored_digest::<f32x8, K>(dir).expect("the stored scene")
 }
 
 fn main() {
