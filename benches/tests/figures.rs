@@ -168,3 +168,67 @@ fn chart_shows_every_row_of_the_report() {
         );
     }
 }
+
+#[test]
+fn every_missed_target_is_counted() {
+    // `benches/counts.md` (`profile --report`) bounds every target `benches/scenes.md` shows
+    // missed with both rows' counts per ray: a missed target without counts means the counts
+    // report is older than the scene report.
+    use octoray_benches::counts::{reported_ratio, SCENES};
+    use octoray_benches::targets::TARGETS;
+    let scenes = std::fs::read_to_string(root().join("benches/scenes.md")).expect("scenes.md");
+    let counts = std::fs::read_to_string(root().join("benches/counts.md")).expect("counts.md");
+    let mut missed = 0;
+    for (key, name) in SCENES {
+        for t in TARGETS {
+            let ratio = reported_ratio(&scenes, name, t)
+                .unwrap_or_else(|| panic!("scenes.md has no ratio for {name}: {}", t.what));
+            if ratio >= t.ratio {
+                continue;
+            }
+            missed += 1;
+            let head = format!("| {name} | {} | {ratio:.2}× | ", t.what);
+            let line = counts
+                .lines()
+                .find(|l| l.starts_with(&head))
+                .unwrap_or_else(|| {
+                    panic!("counts.md does not bound `{head}`: rerun `profile --report`")
+                });
+            // A row left uncounted names why in the report's header.
+            assert!(
+                !line.contains("not counted") || counts.contains(&format!("Not counted: {key} ")),
+                "counts.md has no counts for `{head}` and says not why"
+            );
+        }
+    }
+    assert!(missed > 0, "no missed target found");
+}
+
+#[test]
+fn quoted_counts_are_the_counts_report() {
+    // docs/scenes.md's per-ray counts are lines of `benches/counts.md`, copied verbatim.
+    let counts = std::fs::read_to_string(root().join("benches/counts.md")).expect("counts.md");
+    let block = marked("docs/scenes.md", "counts");
+    let rows: Vec<&str> = block
+        .lines()
+        .filter(|l| l.starts_with("| "))
+        .skip(1)
+        .collect();
+    assert!(
+        rows.len() >= 8,
+        "docs/scenes.md quotes {} count rows",
+        rows.len()
+    );
+    for line in block
+        .lines()
+        .filter(|l| !l.is_empty() && !l.starts_with("|---"))
+    {
+        if line.starts_with("| scene |") || line.starts_with("| rays |") {
+            continue;
+        }
+        assert!(
+            counts.lines().any(|l| l == line),
+            "docs/scenes.md: not a line of benches/counts.md (rerun and copy): {line}"
+        );
+    }
+}

@@ -25,6 +25,7 @@ use octoray_benches::scenes::{
     batch_closest, city, jittered_sphere, open_field, packets_any, packets_closest, scanned,
     singles_any, singles_closest, sponza, terrain, SceneSet,
 };
+use octoray_benches::targets::TARGETS;
 use rayon::prelude::*;
 use std::fmt::Write as _;
 use std::hint::black_box;
@@ -76,30 +77,6 @@ fn sah_terms(nodes: &[octoray::bvh::Bvh8Node]) -> (f32, f32, f32) {
         }
     }
     (inner, leaves, blocks)
-}
-
-/// The CPU's model name (Linux), for the report's header.
-fn machine() -> String {
-    let info = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
-    let model = info
-        .lines()
-        .find_map(|l| {
-            l.strip_prefix("model name")
-                .map(|r| r.trim_start_matches([' ', '\t', ':']))
-        })
-        .unwrap_or("unknown CPU");
-    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
-    format!("{model}, {cores} threads")
-}
-
-fn flags() -> &'static str {
-    if cfg!(target_feature = "avx512f") {
-        "-C target-cpu=native (AVX-512, FMA)"
-    } else if cfg!(target_feature = "avx2") {
-        "AVX2"
-    } else {
-        "default x86-64 (SSE2)"
-    }
 }
 
 fn report(s: &SceneSet, runs: usize, md: &mut String) -> Rates {
@@ -605,118 +582,8 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) -> Rates {
     )
     .unwrap();
     writeln!(md, "|---|---|---|---|").unwrap();
-    for (what, a, b) in [
-        (
-            "primary packet-8 ≥ 1.2× Embree robust rtcIntersect8",
-            "primary|closest|packet-8 (4×2 tiles)|watertight",
-            "primary|closest|packet-8 (rtcIntersect8)|Embree 3 robust",
-        ),
-        (
-            "primary single ray ≥ 1.2× Embree robust rtcIntersect1",
-            "primary|closest|single ray (leaves ×8)|watertight",
-            "primary|closest|single ray (rtcIntersect1)|Embree 3 robust",
-        ),
-        (
-            "diffuse bounce ≥ 1.2× Embree robust rtcIntersect1",
-            "diffuse bounce|closest|single ray|watertight",
-            "diffuse bounce|closest|single ray (rtcIntersect1)|Embree 3 robust",
-        ),
-        (
-            "primary single ray ≥ tinybvh BVH8_CPU (BuildHQ)",
-            "primary|closest|single ray (leaves ×8)|watertight",
-            "primary|closest|single ray|tinybvh 1.6.8 (BVH8_CPU, BuildHQ: spatial splits)",
-        ),
-        (
-            "primary single ray, standard tier ≥ 1.2× tinybvh BVH8_CPU (BuildHQ)",
-            "primary|closest|single ray|standard",
-            "primary|closest|single ray|tinybvh 1.6.8 (BVH8_CPU, BuildHQ: spatial splits)",
-        ),
-        (
-            "diffuse bounce ≥ tinybvh BVH8_CPU (BuildHQ)",
-            "diffuse bounce|closest|single ray|watertight",
-            "diffuse bounce|closest|single ray|tinybvh 1.6.8 (BVH8_CPU, BuildHQ: spatial splits)",
-        ),
-        (
-            "primary packet-8 ≥ 1.2× Embree robust rtcIntersect8, spatial splits",
-            "primary|closest|packet-8 (4×2 tiles)|watertight, spatial splits",
-            "primary|closest|packet-8 (rtcIntersect8)|Embree 3 robust",
-        ),
-        (
-            "primary single ray ≥ 1.2× Embree robust rtcIntersect1, spatial splits",
-            "primary|closest|single ray (leaves ×8)|watertight, spatial splits",
-            "primary|closest|single ray (rtcIntersect1)|Embree 3 robust",
-        ),
-        (
-            "diffuse bounce ≥ 1.2× Embree robust rtcIntersect1, spatial splits",
-            "diffuse bounce|closest|single ray|watertight, spatial splits",
-            "diffuse bounce|closest|single ray (rtcIntersect1)|Embree 3 robust",
-        ),
-        (
-            "primary single ray ≥ tinybvh BVH8_CPU (BuildHQ), spatial splits",
-            "primary|closest|single ray (leaves ×8)|watertight, spatial splits",
-            "primary|closest|single ray|tinybvh 1.6.8 (BVH8_CPU, BuildHQ: spatial splits)",
-        ),
-        (
-            "diffuse bounce ≥ tinybvh BVH8_CPU (BuildHQ), spatial splits",
-            "diffuse bounce|closest|single ray|watertight, spatial splits",
-            "diffuse bounce|closest|single ray|tinybvh 1.6.8 (BVH8_CPU, BuildHQ: spatial splits)",
-        ),
-        (
-            "camera 2 single ray ≥ 1.2× Embree robust rtcIntersect1",
-            "primary (camera 2)|closest|single ray|watertight",
-            "primary (camera 2)|closest|single ray (rtcIntersect1)|Embree 3 robust",
-        ),
-        (
-            "camera 2 packet-8 ≥ 1.2× Embree robust rtcIntersect8",
-            "primary (camera 2)|closest|packet-8 (4×2 tiles)|watertight",
-            "primary (camera 2)|closest|packet-8 (rtcIntersect8)|Embree 3 robust",
-        ),
-        (
-            "shadow single ray ≥ 1.2× Embree robust rtcOccluded1",
-            "shadow|any|single ray|watertight",
-            "shadow|any|single ray (rtcOccluded1)|Embree 3 robust",
-        ),
-        (
-            "camera 2 single ray ≥ tinybvh BVH8_CPU (BuildHQ)",
-            "primary (camera 2)|closest|single ray|watertight",
-            "primary (camera 2)|closest|single ray|tinybvh 1.6.8 (BVH8_CPU, BuildHQ: spatial splits)",
-        ),
-        (
-            "camera 2 single ray ≥ 1.2× Embree robust rtcIntersect1, spatial splits",
-            "primary (camera 2)|closest|single ray|watertight, spatial splits",
-            "primary (camera 2)|closest|single ray (rtcIntersect1)|Embree 3 robust",
-        ),
-        (
-            "shadow single ray ≥ 1.2× Embree robust rtcOccluded1, spatial splits",
-            "shadow|any|single ray|watertight, spatial splits",
-            "shadow|any|single ray (rtcOccluded1)|Embree 3 robust",
-        ),
-        (
-            "camera 2 single ray ≥ tinybvh BVH8_CPU (BuildHQ), spatial splits",
-            "primary (camera 2)|closest|single ray|watertight, spatial splits",
-            "primary (camera 2)|closest|single ray|tinybvh 1.6.8 (BVH8_CPU, BuildHQ: spatial splits)",
-        ),
-        (
-            "primary single ray ≥ 2× obvhs",
-            "primary|closest|single ray (leaves ×8)|watertight",
-            "primary|closest|single ray|obvhs 0.4 (CWBVH)",
-        ),
-        (
-            "primary any hit ≥ 2× obvhs",
-            "primary|any|single ray|watertight",
-            "primary|any|single ray|obvhs 0.4 (CWBVH)",
-        ),
-        (
-            "diffuse bounce ≥ 2× obvhs",
-            "diffuse bounce|closest|single ray|watertight",
-            "diffuse bounce|closest|single ray|obvhs 0.4 (CWBVH)",
-        ),
-        (
-            "shadow single ray ≥ 2× obvhs",
-            "shadow|any|single ray|watertight",
-            "shadow|any|single ray|obvhs 0.4 (CWBVH)",
-        ),
-    ] {
+    for t in TARGETS {
+        let (what, a, b) = (t.what, t.octoray, t.peer);
         let show = |k: &str| k.replace('|', ", ");
         writeln!(
             md,
@@ -1075,8 +942,8 @@ fn main() {
     writeln!(
         md,
         "Generated by `RUSTFLAGS=\"-C target-cpu=native\" cargo run --release -p octoray-benches --bin scenes`. Build: {}. Best of {runs} runs per row; 8-wide BVH (binned SAH, 32 bins, leaves of at most one SoA block of 8; rows marked \"spatial splits\" on the tree of `BuildOptions::SPATIAL`); one thread unless the row says otherwise. Machine: {}.",
-        flags(),
-        machine()
+        octoray_benches::build_flags(),
+        octoray_benches::machine()
     )
     .unwrap();
     let scene_model = !std::env::args().any(|a| a == "--no-scene-model");
@@ -1112,7 +979,15 @@ fn main() {
         eprintln!("cannot write {path}: {e}");
     }
     let svg = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes.svg");
-    if let Err(e) = scene_chart::draw(&charted, &format!("{}, {}", machine(), flags()), svg) {
+    if let Err(e) = scene_chart::draw(
+        &charted,
+        &format!(
+            "{}, {}",
+            octoray_benches::machine(),
+            octoray_benches::build_flags()
+        ),
+        svg,
+    ) {
         eprintln!("cannot draw {svg}: {e}");
     }
 }

@@ -1,0 +1,350 @@
+//! The counts report: instructions, branches, mispredicted branches and cache misses per ray of
+//! the scene report's rows, counted by callgrind over the traversal alone, and for every speed
+//! target the scene report shows missed, both rows' counts side by side (`benches/counts.md`,
+//! written by `profile --report`).
+
+use crate::targets::{Target, TARGETS};
+use std::fmt::Write as _;
+
+/// The scenes, as `profile` names them, with their section names in `benches/scenes.md`.
+pub const SCENES: [(&str, &str); 6] = [
+    ("sponza", "Sponza"),
+    ("sphere", "jittered sphere"),
+    ("city", "city"),
+    ("terrain", "terrain"),
+    ("scanned", "scanned mesh in a room"),
+    ("open", "open field"),
+];
+
+/// The systems `profile` runs, with the names the scene report gives their rows.
+pub const SYSTEMS: [(&str, &str); 6] = [
+    ("watertight", "watertight"),
+    ("spatial", "watertight, spatial splits"),
+    ("standard", "standard"),
+    ("embree-robust", "Embree 3 robust"),
+    (
+        "tinybvh",
+        "tinybvh 1.6.8 (BVH8_CPU, BuildHQ: spatial splits)",
+    ),
+    ("obvhs", "obvhs 0.4 (CWBVH)"),
+];
+
+/// Why the report does not count `system` on `scene`, where it does not: tinybvh's
+/// spatial-split build (`BuildHQ`, in the profiled process) of the million-triangle scenes runs
+/// for more than 20 CPU-minutes under callgrind before the first ray.
+pub fn not_counted(scene: &str, system: &str) -> Option<&'static str> {
+    (system == "tinybvh" && matches!(scene, "sphere" | "terrain")).then_some(
+        "tinybvh's `BuildHQ` of a million triangles had not finished after 20 CPU-minutes under callgrind (3-5 s natively); its rows are timed in `benches/scenes.md`",
+    )
+}
+
+/// The rows `profile <scene> all <system>` runs, in order: ray set and packets of 8.
+pub fn rows(system: &str) -> Vec<(&'static str, bool)> {
+    let single = |r: &[&'static str]| r.iter().map(|&r| (r, false)).collect();
+    match system {
+        "tinybvh" => single(&["primary", "camera2", "bounce", "shadow"]),
+        "obvhs" => single(&["primary", "camera2", "bounce", "primary-any", "shadow"]),
+        _ => {
+            let mut v: Vec<_> = single(&["primary", "camera2", "bounce", "primary-any", "shadow"]);
+            v.extend([("primary", true), ("camera2", true)]);
+            v
+        }
+    }
+}
+
+/// `profile`'s arguments for a scene report row key (`rays|query|traversal|tier`): ray set,
+/// system and packets of 8; `None` for a row `profile` does not run.
+pub fn profile_args(key: &str) -> Option<(&'static str, &'static str, bool)> {
+    let mut parts = key.splitn(4, '|');
+    let (rays, query, traversal, tier) =
+        (parts.next()?, parts.next()?, parts.next()?, parts.next()?);
+    let rays = match (rays, query) {
+        ("primary", "closest") => "primary",
+        ("primary", "any") => "primary-any",
+        ("primary (camera 2)", "closest") => "camera2",
+        ("diffuse bounce", "closest") => "bounce",
+        ("shadow", "any") => "shadow",
+        _ => return None,
+    };
+    let packets = if traversal.starts_with("packet-8") {
+        true
+    } else if traversal.starts_with("single ray") {
+        false
+    } else {
+        return None;
+    };
+    let system = SYSTEMS.iter().find(|(_, name)| *name == tier)?.0;
+    Some((rays, system, packets))
+}
+
+/// Event totals of one callgrind profile, for the rays it traced.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Counts {
+    /// Instructions executed.
+    pub instructions: u64,
+    /// Conditional branches executed.
+    pub branches: u64,
+    /// Mispredicted branches, conditional and indirect (callgrind's simulated predictor).
+    pub mispredicted: u64,
+    /// First-level data cache misses, reads and writes (callgrind's simulated D1).
+    pub d1_misses: u64,
+    /// Last-level data cache misses, reads and writes.
+    pub ll_misses: u64,
+}
+
+impl Counts {
+    /// The totals of a callgrind output file (its `events:` and `totals:` lines; events it does
+    /// not list count 0). `None` when either line is missing.
+    pub fn parse(text: &str) -> Option<Self> {
+        let events: Vec<&str> = text
+            .lines()
+            .find_map(|l| l.strip_prefix("events:"))?
+            .split_whitespace()
+            .collect();
+        let totals: Vec<u64> = text
+            .lines()
+            .find_map(|l| l.strip_prefix("totals:"))?
+            .split_whitespace()
+            .map(|x| x.parse().ok())
+            .collect::<Option<_>>()?;
+        let get = |name: &str| {
+            events
+                .iter()
+                .position(|e| *e == name)
+                .and_then(|i| totals.get(i))
+                .copied()
+                .unwrap_or(0)
+        };
+        Some(Self {
+            instructions: get("Ir"),
+            branches: get("Bc"),
+            mispredicted: get("Bcm") + get("Bim"),
+            d1_misses: get("D1mr") + get("D1mw"),
+            ll_misses: get("DLmr") + get("DLmw"),
+        })
+    }
+}
+
+/// One counted row: scene, `profile`'s ray set, system and packets, the rays traced and their
+/// counts.
+#[derive(Clone, Debug)]
+pub struct Counted {
+    pub scene: &'static str,
+    pub rays: &'static str,
+    pub system: &'static str,
+    pub packets: bool,
+    pub n: u64,
+    pub counts: Counts,
+}
+
+impl Counted {
+    /// `x` per ray.
+    fn per_ray(&self, x: u64) -> f64 {
+        x as f64 / self.n.max(1) as f64
+    }
+}
+
+/// How the counts report names a ray set.
+fn rays_label(rays: &str) -> &str {
+    match rays {
+        "primary" => "primary, closest",
+        "primary-any" => "primary, any",
+        "camera2" => "primary (camera 2), closest",
+        "bounce" => "diffuse bounce, closest",
+        "shadow" => "shadow, any",
+        other => other,
+    }
+}
+
+/// The ratio the scene report printed for `target` in the section of `scene` (`benches/scenes.md`).
+pub fn reported_ratio(scenes_md: &str, scene: &str, target: &Target) -> Option<f64> {
+    let head = format!("### {scene} (");
+    let at = scenes_md.find(&head)?;
+    let section = &scenes_md[at + head.len()..];
+    let section = &section[..section.find("\n### ").unwrap_or(section.len())];
+    let row = format!("| {} |", target.what);
+    let line = section.lines().find(|l| l.starts_with(&row))?;
+    let cell = line.trim_end_matches('|').rsplit('|').next()?.trim();
+    cell.trim_end_matches('×').parse().ok()
+}
+
+/// What would move each kind of bound: the design steps the counts point at.
+const NEXT_STEPS: &str = "\nWhat the next design step is, by what octoray's row has more of (the breakdown per ray is in `docs/scenes.md`, \"What bounds it\"):\n\n- **Instructions**: about 365 per ray of setup (the box ray and the sheared ray, prepared whole before the first node), the leaf's exact range decision (7-12 % of a ray) and the ordering and pushing of children hit. Next: a single-ray walk whose per-ray state fits in registers (the shear prepared at the first leaf, the reciprocals shared with the box ray), and a leaf layout per tier that hoists the shear-independent work out of the test.\n- **Mispredicted branches**: the near-first order of three or more children hit, node visits that find no child hit and entries popped beyond the hit. Next: fewer, wider decisions per visit (tinybvh's one-child and all-children paths without a per-child branch).\n- **D1 misses**: 256-byte nodes, four cache lines a visit. Next: compressed or quantised nodes, measured on the CPU before adopting them.\n- **None of the three**: the row is bound by the latency of the node test's dependent chain (child index, node load, slab distances, compare, branch), not its work. Next: more independent work per visit (two rays or two subtrees at once).\n";
+
+/// The report: per scene, every counted row; then every target the scene report shows missed,
+/// with both rows' counts per ray and which of them octoray's row exceeds.
+pub fn markdown(header: &str, counted: &[Counted], scenes_md: &str) -> String {
+    let mut md = String::new();
+    md.push_str(header);
+    let find = |scene: &str, rays: &str, system: &str, packets: bool| {
+        counted.iter().find(|c| {
+            c.scene == scene && c.rays == rays && c.system == system && c.packets == packets
+        })
+    };
+    for (scene, name) in SCENES {
+        let rows: Vec<&Counted> = counted.iter().filter(|c| c.scene == scene).collect();
+        if rows.is_empty() {
+            continue;
+        }
+        writeln!(md, "\n### {name}\n").unwrap();
+        md.push_str("| rays | traversal | system | instructions | branches | mispredicted | D1 misses | LL misses | rays traced |\n");
+        md.push_str("|---|---|---|---|---|---|---|---|---|\n");
+        for c in rows {
+            let system = SYSTEMS
+                .iter()
+                .find(|s| s.0 == c.system)
+                .map_or(c.system, |s| s.1);
+            writeln!(
+                md,
+                "| {} | {} | {system} | {:.0} | {:.0} | {:.2} | {:.2} | {:.3} | {} |",
+                if c.system == "tinybvh" && c.rays == "shadow" {
+                    "shadow, closest (no occlusion query)"
+                } else {
+                    rays_label(c.rays)
+                },
+                if c.packets { "packet-8" } else { "single ray" },
+                c.per_ray(c.counts.instructions),
+                c.per_ray(c.counts.branches),
+                c.per_ray(c.counts.mispredicted),
+                c.per_ray(c.counts.d1_misses),
+                c.per_ray(c.counts.ll_misses),
+                c.n
+            )
+            .unwrap();
+        }
+    }
+    md.push_str("\n### Missed targets: octoray's row against the peer's, per ray\n\n");
+    md.push_str("Every target of `benches/scenes.md` whose ratio there is below the target, with both rows' counts per ray (octoray / peer) and the counts octoray's row exceeds the peer's by more than 5 %, largest ratio first.\n\n");
+    md.push_str("| scene | target | ratio (scenes.md) | instructions | mispredicted | D1 misses | octoray's row has more |\n");
+    md.push_str("|---|---|---|---|---|---|---|\n");
+    let (mut missed, mut by_instr, mut by_branch, mut by_d1, mut by_none, mut uncounted) =
+        (0, 0, 0, 0, 0, 0);
+    for (scene, name) in SCENES {
+        for t in TARGETS {
+            let Some(ratio) = reported_ratio(scenes_md, name, t) else {
+                continue;
+            };
+            if ratio >= t.ratio {
+                continue;
+            }
+            missed += 1;
+            let pair = profile_args(t.octoray)
+                .zip(profile_args(t.peer))
+                .and_then(|(a, b)| find(scene, a.0, a.1, a.2).zip(find(scene, b.0, b.1, b.2)));
+            let Some((a, b)) = pair else {
+                uncounted += 1;
+                writeln!(
+                    md,
+                    "| {name} | {} | {ratio:.2}× | | | | not counted |",
+                    t.what
+                )
+                .unwrap();
+                continue;
+            };
+            let cols = [
+                (
+                    "instructions",
+                    a.per_ray(a.counts.instructions),
+                    b.per_ray(b.counts.instructions),
+                ),
+                (
+                    "mispredicted branches",
+                    a.per_ray(a.counts.mispredicted),
+                    b.per_ray(b.counts.mispredicted),
+                ),
+                (
+                    "D1 misses",
+                    a.per_ray(a.counts.d1_misses),
+                    b.per_ray(b.counts.d1_misses),
+                ),
+            ];
+            let mut over: Vec<(&str, f64)> = cols
+                .iter()
+                .filter(|c| c.1 > 1.05 * c.2)
+                .map(|c| (c.0, c.1 / c.2.max(1e-9)))
+                .collect();
+            over.sort_by(|x, y| y.1.total_cmp(&x.1));
+            by_instr += usize::from(over.iter().any(|o| o.0 == "instructions"));
+            by_branch += usize::from(over.iter().any(|o| o.0 == "mispredicted branches"));
+            by_d1 += usize::from(over.iter().any(|o| o.0 == "D1 misses"));
+            by_none += usize::from(over.is_empty());
+            let more = if over.is_empty() {
+                "none of the three".to_string()
+            } else {
+                over.iter()
+                    .map(|(n, r)| format!("{n} {r:.2}×"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            writeln!(
+                md,
+                "| {name} | {} | {ratio:.2}× | {:.0} / {:.0} | {:.2} / {:.2} | {:.2} / {:.2} | {more} |",
+                t.what, cols[0].1, cols[0].2, cols[1].1, cols[1].2, cols[2].1, cols[2].2
+            )
+            .unwrap();
+        }
+    }
+    md.push_str(NEXT_STEPS);
+    writeln!(
+        md,
+        "\n{missed} targets missed; octoray's row executes more instructions than the peer's in {by_instr}, mispredicts more branches in {by_branch}, misses D1 more in {by_d1}, and exceeds none of the three in {by_none}; {uncounted} not counted."
+    )
+    .unwrap();
+    md
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_callgrind_totals_with_missing_trailing_events() {
+        let text = "events: Ir Dr Dw I1mr D1mr D1mw ILmr DLmr DLmw Bc Bcm Bi Bim\nsummary: 9\ntotals: 15007 1 0 1 3 2 1 4 5 1001 10\n";
+        let c = Counts::parse(text).expect("parses");
+        assert_eq!(
+            c,
+            Counts {
+                instructions: 15007,
+                branches: 1001,
+                mispredicted: 10,
+                d1_misses: 5,
+                ll_misses: 9,
+            }
+        );
+        assert_eq!(Counts::parse("events: Ir\n"), None);
+    }
+
+    #[test]
+    fn every_target_row_maps_to_a_profile_row() {
+        for t in TARGETS {
+            for key in [t.octoray, t.peer] {
+                let (rays, system, packets) =
+                    profile_args(key).unwrap_or_else(|| panic!("{key} has no profile row"));
+                assert!(
+                    rows(system).contains(&(rays, packets)),
+                    "{key}: profile's all-rows mode of {system} does not run {rays}"
+                );
+            }
+        }
+        assert_eq!(
+            profile_args("shadow|any|single ray (rtcOccluded1)|Embree 3 robust"),
+            Some(("shadow", "embree-robust", false))
+        );
+        assert_eq!(
+            profile_args("primary|closest|packet-16 (4×4 tiles)|watertight"),
+            None
+        );
+    }
+
+    #[test]
+    fn reads_the_ratio_of_a_scene_section() {
+        let md = "### A (1 triangles; x)\n| t | o | p | ratio |\n| shadow single ray ≥ 2× obvhs | a | b | 0.80× |\n### B (2 triangles; y)\n| shadow single ray ≥ 2× obvhs | a | b | 2.50× |\n";
+        let t = TARGETS
+            .iter()
+            .find(|t| t.what == "shadow single ray ≥ 2× obvhs")
+            .expect("target");
+        assert_eq!(reported_ratio(md, "A", t), Some(0.80));
+        assert_eq!(reported_ratio(md, "B", t), Some(2.50));
+        assert_eq!(reported_ratio(md, "C", t), None);
+    }
+}
