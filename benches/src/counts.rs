@@ -29,15 +29,6 @@ pub const SYSTEMS: [(&str, &str); 6] = [
     ("obvhs", "obvhs 0.4 (CWBVH)"),
 ];
 
-/// Why the report does not count `system` on `scene`, where it does not: tinybvh's
-/// spatial-split build (`BuildHQ`, in the profiled process) of the million-triangle scenes runs
-/// for more than 20 CPU-minutes under callgrind before the first ray.
-pub fn not_counted(scene: &str, system: &str) -> Option<&'static str> {
-    (system == "tinybvh" && matches!(scene, "sphere" | "terrain")).then_some(
-        "tinybvh's `BuildHQ` of a million triangles had not finished after 20 CPU-minutes under callgrind (3-5 s natively); its rows are timed in `benches/scenes.md`",
-    )
-}
-
 /// The rows `profile <scene> all <system>` runs, in order: ray set and packets of 8.
 pub fn rows(system: &str) -> Vec<(&'static str, bool)> {
     let single = |r: &[&'static str]| r.iter().map(|&r| (r, false)).collect();

@@ -22,7 +22,12 @@
 //! `--report` counts every row the scene report's targets compare, in each scene, and writes
 //! `benches/counts.md` (`counts::markdown`): it runs this binary under callgrind once per scene
 //! and system, in the mode `profile <scene> all <system>` that traces each of the system's rows
-//! in turn (`counts::rows`), with a profile dumped after each (`--dump-after`). It needs
+//! in turn (`counts::rows`), with a profile dumped after each (`--dump-after`). Callgrind starts
+//! with its instrumentation off (`--instr-atstart=no`), so that scene generation and tree builds
+//! run at valgrind's uninstrumented speed (tinybvh's `BuildHQ` of a million triangles would take
+//! tens of CPU-minutes instrumented); `--warm` has the run switch it on once the system's
+//! structures are built and trace its first row once uncollected, so that every row starts with
+//! warm simulated caches whatever the build left in them. It needs
 //! `valgrind` (skipped with a message otherwise), and `--features tinybvh` for tinybvh's rows;
 //! `--jobs N` runs N profiles at once (default: the machine's threads), `--only SCENE` one scene
 //! (printed, not written), `--reuse` takes the profiles earlier runs left in `counts/` beside
@@ -43,13 +48,15 @@ use std::process::Command;
 use std::sync::Mutex;
 use wide::f32x8;
 
-const USAGE: &str = "usage: profile <sponza|sphere|city|terrain|scanned|open> <primary|primary-any|camera2|bounce|shadow|all> <watertight|spatial|standard|tinybvh|embree-robust|embree-fast|obvhs> [single|packet8]\n       profile --report [--jobs N] [--only SCENE] [--reuse]";
+const USAGE: &str = "usage: profile <sponza|sphere|city|terrain|scanned|open> <primary|primary-any|camera2|bounce|shadow|all> <watertight|spatial|standard|tinybvh|embree-robust|embree-fast|obvhs> [single|packet8] [--warm]\n       profile --report [--jobs N] [--only SCENE] [--reuse]";
 
 fn main() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     if args.first().is_some_and(|a| a == "--report") {
         return report(&args[1..]);
     }
+    let warm = args.iter().any(|a| a == "--warm");
+    let args: Vec<String> = args.into_iter().filter(|a| a != "--warm").collect();
     let (scene, rays, system, packets) = match args.as_slice() {
         [a, b, c] => (a, b, c, false),
         [a, b, c, d] if d == "single" || d == "packet8" => (a, b, c, d == "packet8"),
@@ -112,45 +119,48 @@ fn main() -> Result<(), String> {
         None
     };
     let obvhs = (system == "obvhs").then(|| ObvhsScene::build(&s.tris).0);
-    for (name, packets) in runs {
-        let rays = ray_set(name)?;
+    if warm {
+        instrumentation_on()?;
+    }
+    for (i, (name, packets)) in runs.into_iter().enumerate() {
+        let ray_vec = ray_set(name)?;
+        let rays = ray_vec.as_slice();
         let any = matches!(name, "shadow" | "primary-any");
-        let hits = match system.as_str() {
+        let trace: Box<dyn Fn() -> u64 + '_> = match system.as_str() {
             "watertight" | "spatial" => {
-                let tree = octoray_tree.as_ref().unwrap_or(&binned);
-                octoray_row::<Watertight>(tree.as_ref(), &rays, any, packets)
+                let tree = octoray_tree.as_ref().unwrap_or(&binned).as_ref();
+                octoray_row::<Watertight>(tree, rays, any, packets)
             }
             "standard" => octoray_row::<MollerTrumbore>(
                 standard_tree.as_ref().ok_or(USAGE)?.as_ref(),
-                &rays,
+                rays,
                 any,
                 packets,
             ),
             "tinybvh" => {
                 let tb = tiny.as_ref().ok_or(USAGE)?;
-                traced(&|| tb.closest(&rays))
+                Box::new(move || tb.closest(rays))
             }
             "embree-robust" | "embree-fast" => {
                 let em = embree.as_ref().ok_or(USAGE)?;
-                traced(&|| match (any, packets) {
-                    (true, true) => em.any8(&rays),
-                    (true, false) => em.any1(&rays),
-                    (false, true) => em.closest8(&rays),
-                    (false, false) => em.closest1(&rays),
+                Box::new(move || match (any, packets) {
+                    (true, true) => em.any8(rays),
+                    (true, false) => em.any1(rays),
+                    (false, true) => em.closest8(rays),
+                    (false, false) => em.closest1(rays),
                 })
             }
             "obvhs" => {
                 let ob = obvhs.as_ref().ok_or(USAGE)?;
-                traced(&|| {
-                    if any {
-                        ob.any(&rays)
-                    } else {
-                        ob.closest(&rays)
-                    }
-                })
+                Box::new(move || if any { ob.any(rays) } else { ob.closest(rays) })
             }
             _ => return Err(USAGE.into()),
         };
+        if warm && i == 0 {
+            // Outside `traced`: simulated, not collected.
+            std::hint::black_box(trace());
+        }
+        let hits = traced(&*trace);
         let how = if packets { "packet8" } else { "single" };
         println!("row {name} {how}: {} rays, {hits} hits", rays.len());
     }
@@ -159,18 +169,37 @@ fn main() -> Result<(), String> {
 
 /// An octoray row: single rays (or packets of 8) through `bvh` with kernel `K`, occlusion when
 /// `any`.
-fn octoray_row<K: Kernel<f32x8>>(
-    bvh: Bvh8Ref<'_, K::Prim>,
-    rays: &[Ray],
+fn octoray_row<'a, K: Kernel<f32x8>>(
+    bvh: Bvh8Ref<'a, K::Prim>,
+    rays: &'a [Ray],
     any: bool,
     packets: bool,
-) -> u64 {
-    traced(&|| match (any, packets) {
+) -> Box<dyn Fn() -> u64 + 'a> {
+    Box::new(move || match (any, packets) {
         (true, true) => packets_any::<f32x8, K>(bvh, rays),
         (true, false) => singles_any::<f32x8, K>(bvh, rays),
         (false, true) => packets_closest::<f32x8, K>(bvh, rays),
         (false, false) => singles_closest::<f32x8, K>(bvh, rays),
     })
+}
+
+/// Callgrind's instrumentation switched on for this process (`callgrind_control -i on`), for a
+/// run started with `--instr-atstart=no`: polling for the command's end rather than blocking in
+/// `wait`, as valgrind serves the command only while the program runs.
+fn instrumentation_on() -> Result<(), String> {
+    let pid = std::process::id().to_string();
+    let mut control = Command::new("callgrind_control")
+        .args(["-i", "on", &pid])
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .map_err(|e| format!("callgrind_control: {e}"))?;
+    loop {
+        match control.try_wait().map_err(|e| e.to_string())? {
+            Some(s) if s.success() => return Ok(()),
+            Some(s) => return Err(format!("callgrind_control -i on: {s}")),
+            None => std::hint::spin_loop(),
+        }
+    }
 }
 
 /// The traversal of every ray, and nothing else: what the counts are taken over.
@@ -208,15 +237,7 @@ fn report(args: &[String]) -> Result<(), String> {
     let skipped = Mutex::new(Vec::new());
     for (scene, _) in counts::SCENES {
         if only.as_deref().is_none_or(|o| o == scene) {
-            for (system, _) in counts::SYSTEMS {
-                match counts::not_counted(scene, system) {
-                    Some(why) => skipped
-                        .lock()
-                        .expect("skipped")
-                        .push(format!("{scene} {system}: {why}")),
-                    None => todo.push((scene, system)),
-                }
-            }
+            todo.extend(counts::SYSTEMS.iter().map(|(system, _)| (scene, *system)));
         }
     }
     // Largest first, so that the last job to finish is a short one.
@@ -260,7 +281,7 @@ fn report(args: &[String]) -> Result<(), String> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let scenes_md = std::fs::read_to_string(root.join("scenes.md")).map_err(|e| e.to_string())?;
     let mut header = format!(
-        "# octoray per-ray counts\n\nGenerated by `cargo build --release -p octoray-benches --features tinybvh --bin profile && target/release/profile --report`. Build: {}. Machine: {}. {version} (callgrind, `--branch-sim=yes --cache-sim=yes`: its simulated branch predictor and caches, not the machine's), counting only the traversal (`--toggle-collect='*profile::traced*'`, one profile per row with `--dump-after`): no scene generation, tree build or ray generation. Per ray, 256×256 primary rays from each camera (4×2 tiles) and the first camera's diffuse bounces and shadow rays, the scene report's scenes, trees and peers (binned trees; \"watertight, spatial splits\" the tree of `BuildOptions::SPATIAL`; tinybvh from its `BuildHQ`, closest hit on every ray set, it has no occlusion query).\n",
+        "# octoray per-ray counts\n\nGenerated by `cargo build --release -p octoray-benches --features tinybvh --bin profile && target/release/profile --report`. Build: {}. Machine: {}. {version} (callgrind, `--branch-sim=yes --cache-sim=yes`: its simulated branch predictor and caches, not the machine's), counting only the traversal (`--toggle-collect='*profile::traced*'`, one profile per row with `--dump-after`): no scene generation, tree build or ray generation. Instrumentation starts once a system's structures are built (`--instr-atstart=no`, then `callgrind_control -i on`) and its first row is traced once uncollected before it is counted, so the simulated caches are warm on every row. Per ray, 256×256 primary rays from each camera (4×2 tiles) and the first camera's diffuse bounces and shadow rays, the scene report's scenes, trees and peers (binned trees; \"watertight, spatial splits\" the tree of `BuildOptions::SPATIAL`; tinybvh from its `BuildHQ`, closest hit on every ray set, it has no occlusion query).\n",
         octoray_benches::build_flags(),
         octoray_benches::machine()
     );
@@ -305,12 +326,13 @@ fn count(
             "--tool=callgrind",
             "--branch-sim=yes",
             "--cache-sim=yes",
+            "--instr-atstart=no",
             "--toggle-collect=*profile::traced*",
             "--dump-after=profile::traced",
         ])
         .arg(format!("--callgrind-out-file={}", out.display()))
         .arg(exe)
-        .args([scene, "all", system])
+        .args([scene, "all", system, "--warm"])
         .output()
         .map_err(|e| e.to_string())?;
     if !run.status.success() {
