@@ -946,6 +946,11 @@ fn main() {
         octoray_benches::machine()
     )
     .unwrap();
+    writeln!(
+        md,
+        "\nWhat bounds each target missed below, per ray (instructions, mispredicted branches and D1 misses under callgrind, octoray's row beside the peer's), and the design step that would move it: `benches/counts.md` (`profile --report`)."
+    )
+    .unwrap();
     let scene_model = !std::env::args().any(|a| a == "--no-scene-model");
     let mut charted = vec![];
     match sponza() {
