@@ -46,7 +46,7 @@ fn main() {
         let at = Vec3::new(0.0, 0.0, j as f32 * 2.0);
         scene.place_group(None, row, place(1.0, 0.0, at), mask);
     }
-    scene.commit();
+    scene.commit().expect("commit");
     let s = scene.as_ref();
     println!(
         "{} stored triangles, {} instances, {} instance paths: {} virtual triangles",

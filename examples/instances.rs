@@ -43,7 +43,7 @@ fn main() {
         let t = Transform::placing(place).expect("invertible");
         scene.add_instance(&[mesh], t, 1);
     }
-    scene.commit();
+    scene.commit().expect("commit");
     let s = scene.as_ref();
     println!(
         "{} geometries, {} trees, {} instances",

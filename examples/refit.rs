@@ -69,7 +69,7 @@ fn main() {
         scene.refit_triangles(g, &sheet(f)).expect("same slice");
         let up = Affine3A::from_translation(Vec3::new(0.0, f as f32, 0.0));
         scene.set_transform(moving, Transform::placing(up).expect("invertible"));
-        scene.commit();
+        scene.commit().expect("commit");
         let h = scene
             .as_ref()
             .closest_ray::<f32x8, Watertight, StableSphere>(

@@ -71,7 +71,7 @@ pub fn scene_of(s: &SceneSet, layout: Layout) -> Scene<VertexTriangle, PackedSph
     } else {
         scene.add_instance(&geoms, Transform::IDENTITY, u32::MAX);
     }
-    scene.commit();
+    scene.commit().expect("commit");
     scene
 }
 
@@ -127,7 +127,7 @@ pub fn instanced(mesh: &[[Vec3; 3]], places: &[Affine3A]) -> Scene<VertexTriangl
         let t = Transform::placing(*a).expect("invertible");
         scene.add_instance(&[g], t, u32::MAX);
     }
-    scene.commit();
+    scene.commit().expect("commit");
     scene
 }
 

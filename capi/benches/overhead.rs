@@ -55,7 +55,7 @@ fn bench(c: &mut Criterion) {
     let mut rust = Scene::<VertexTriangle, PackedSphere>::new();
     let g = rust.add_triangles(&tris).expect("build");
     rust.add_instance(&[g], Transform::IDENTITY, 1);
-    rust.commit();
+    rust.commit().expect("commit");
     let rust = rust.as_ref();
 
     let (mut cs, mut cg, mut ci) = (std::ptr::null_mut(), 0, 0);

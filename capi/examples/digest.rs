@@ -81,7 +81,7 @@ where
         );
     }
     scene.add_instance(&[balls], Transform::IDENTITY, 2);
-    scene.commit();
+    scene.commit().expect("commit");
     let s = scene.as_ref();
 
     let rays: Vec<Ray> = (0..WIDTH * HEIGHT).map(camera).collect();

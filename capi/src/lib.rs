@@ -1026,7 +1026,11 @@ pub unsafe extern "C" fn octoray_scene_store(
 /// to be traced with `tier` (the layout must be the tier's: the standard tier's scenes load as
 /// standard, the watertight and exact tiers' as either), validating every byte in time linear
 /// in `len`: bytes that are not a valid scene give [`OctorayStatus::InvalidScene`], never a
-/// crash or a query that runs long. The bytes are copied; the scene can be traced, not changed.
+/// crash or a query that runs long. The work per ray is bounded too: a scene whose rays could
+/// enter more instances than it stores 32-bit words (its instance copies multiplied down the
+/// levels of nested groups) is refused as [`OctorayStatus::InvalidScene`], so one ray enters at
+/// most about `len / 4` instances, each walking one tree once. Only instances reached from the
+/// world are traced. The bytes are copied; the scene can be traced, not changed.
 ///
 /// # Safety
 /// `bytes` is valid for reading `len` bytes; `out` is valid for writing one pointer. On

@@ -341,3 +341,68 @@ fn hostile_bytes_never_crash_a_load_or_a_query() {
         ));
     }
 }
+
+/// Stored scenes made with the Rust API's groups: a group placed nowhere is not traced through
+/// the C ABI either, and a small scene whose rays could enter millions of instances is refused
+/// at load, with a message that says why.
+#[test]
+fn unplaced_groups_miss_and_scenes_past_the_work_budget_are_refused() {
+    use octoray::glam::Vec3;
+    use octoray::prim::{PackedSphere, VertexTriangle};
+    use octoray::scene::{Scene, Transform, MAX_INSTANCE_LEVELS};
+    let tri = [VertexTriangle::new(
+        Vec3::new(-1.0, -1.0, 0.0),
+        Vec3::new(1.0, -1.0, 0.0),
+        Vec3::new(0.0, 1.0, 0.0),
+    )];
+    let bytes = |s: &Scene<VertexTriangle, PackedSphere>| -> Vec<u8> {
+        bytemuck::cast_slice(&s.as_ref().to_words()).to_vec()
+    };
+    let ray = OctorayRay {
+        org: [0.0, 0.0, 5.0],
+        dir: [0.0, 0.0, -1.0],
+        t_min: 0.0,
+        t_max: f32::INFINITY,
+    };
+    // A group holding the only instance, placed nowhere.
+    let mut s = Scene::<VertexTriangle, PackedSphere>::new();
+    let g = s.add_triangles(&tri).unwrap();
+    let group = s.add_group();
+    s.add_to_group(group, &[g], Transform::IDENTITY, !0);
+    s.commit().unwrap();
+    let unplaced = bytes(&s);
+    let mut scene = null_mut();
+    // SAFETY: `unplaced` is valid for its length; `scene` for writing.
+    let st = unsafe { octoray_scene_load(unplaced.as_ptr(), unplaced.len(), 1, &mut scene) };
+    assert_eq!(st, OctorayStatus::Ok);
+    let (st, hits) = trace(scene, &[ray]);
+    assert_eq!(st, OctorayStatus::Ok);
+    assert_eq!(
+        hits[0].prim,
+        u32::MAX,
+        "a hit through a group placed nowhere"
+    );
+    // SAFETY: loaded above, freed once.
+    unsafe { octoray_scene_free(scene) };
+    // 64 copies per level, four levels: 16.8 M instance entries per ray.
+    let mut deep = Scene::<VertexTriangle, PackedSphere>::new();
+    let g = deep.add_triangles(&tri).unwrap();
+    let mut below = deep.add_group();
+    for _ in 0..64 {
+        deep.add_to_group(below, &[g], Transform::IDENTITY, !0);
+    }
+    for _ in 2..MAX_INSTANCE_LEVELS {
+        let above = deep.add_group();
+        for _ in 0..64 {
+            deep.place_group(Some(above), below, Transform::IDENTITY, !0);
+        }
+        below = above;
+    }
+    for _ in 0..64 {
+        deep.place_group(None, below, Transform::IDENTITY, !0);
+    }
+    deep.commit().unwrap();
+    let deep = bytes(&deep);
+    assert_eq!(load_and_trace(&deep), OctorayStatus::InvalidScene);
+    assert!(last_error().contains("more than"), "{}", last_error());
+}

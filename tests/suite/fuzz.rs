@@ -810,16 +810,30 @@ fn run_scene(rng: &mut Rng) {
         let mut list = Vec::new();
         for _ in 0..1 + rng.below(4) {
             let p = place(rng, g);
-            match &p.0 {
-                Target::Set(set) => scene.add_to_group(id, set, p.1, p.2),
-                Target::Group(c) => scene.place_group(Some(id), *c as u32, p.1, p.2),
+            // Now and then the same placement several times (copies that multiply the work).
+            let copies = if rng.below(6) == 0 {
+                2 + rng.below(4)
+            } else {
+                1
             };
-            list.push(p);
+            for _ in 0..copies {
+                match &p.0 {
+                    Target::Set(set) => scene.add_to_group(id, set, p.1, p.2),
+                    Target::Group(c) => scene.place_group(Some(id), *c as u32, p.1, p.2),
+                };
+                list.push(p.clone());
+            }
         }
         groups.push(list);
     }
     let mut places: Vec<Place> = Vec::new();
-    for _ in 0..1 + rng.below(10) {
+    // Now and then nothing in the world: the groups are placed nowhere and nothing is hit.
+    let world_instances = if rng.below(12) == 0 {
+        0
+    } else {
+        1 + rng.below(10)
+    };
+    for _ in 0..world_instances {
         let p = place(rng, groups.len());
         match &p.0 {
             Target::Set(set) => scene.add_instance(set, p.1, p.2),
@@ -831,7 +845,7 @@ fn run_scene(rng: &mut Rng) {
     if rng.below(3) == 0 {
         for (g, geo) in geoms.iter_mut().enumerate() {
             if !geo.0 {
-                scene.commit();
+                scene.commit().expect("commit");
                 let old = geo.1.clone();
                 for t in geo.1.iter_mut() {
                     let v = case(rng).1;
@@ -844,7 +858,7 @@ fn run_scene(rng: &mut Rng) {
             }
         }
     }
-    scene.commit();
+    scene.commit().expect("commit");
     let r = scene.as_ref();
     let rays: Vec<Ray> = (0..16).map(|_| case(rng).0).collect();
     let mask = if rng.below(3) == 0 { 1 } else { !0 };
@@ -940,6 +954,8 @@ fn run_scene(rng: &mut Rng) {
     for (i, ray) in rays.iter().enumerate() {
         assert_eq!(packet.lane(i), out[i], "scene packet, {ray:?}");
     }
+    check_work_bound(&r, &rays);
+    duplicated_unbounded_entries(&r, &rays, rng);
     // The slices, corrupted: rejected, or traced within bounds.
     let parts = scene.parts();
     let copy = |t: &TreeParts<'_>| (t.nodes.to_vec(), t.blocks.to_vec(), t.ids.to_vec());
@@ -1032,6 +1048,86 @@ fn run_scene(rng: &mut Rng) {
             }
         }
     }
+}
+
+/// A scene's rays stay within its entry bound: the leaf tests of each ray are within the visits
+/// of geometry trees its levels allow (counted here, independently of the library) times the
+/// blocks, those visits within the library's entry bound, and the default budget refuses the
+/// scene exactly when that bound exceeds its length in words.
+fn check_work_bound(s: &octoray::scene::SceneRef<'_, VertexTriangle, PackedSphere>, rays: &[Ray]) {
+    use octoray::scene::Trace;
+    let entries = s.entries_within(u64::MAX).expect("a finite bound");
+    let visits = tree_visits(s, s.world());
+    assert!(
+        visits as u64 <= entries,
+        "{visits} tree visits over {entries} entries"
+    );
+    let blocks = s.parts().triangles.ids.len() / 8;
+    for ray in rays {
+        testkit::trees::take_leaf_tests();
+        s.closest_ray::<f32x8, testkit::trees::Counting, StableSphere>(ray, !0);
+        let tests = testkit::trees::take_leaf_tests();
+        assert!(
+            tests <= visits * blocks.max(1),
+            "{tests} leaf tests, {visits} visits"
+        );
+    }
+    let words = s.parts().words();
+    let default = octoray::scene::SceneRef::<VertexTriangle, PackedSphere>::new(s.parts());
+    assert_eq!(
+        default.err(),
+        (entries > words).then_some(octoray::scene::SceneError::TooMuchWork { budget: words })
+    );
+}
+
+/// The hostile shape the builder never makes: every level's unbounded list naming each of its
+/// entries again (1-3 extra copies). Still a valid scene with the same answers; its entry bound
+/// counts the copies and its rays stay within it.
+fn duplicated_unbounded_entries(
+    s: &octoray::scene::SceneRef<'_, VertexTriangle, PackedSphere>,
+    rays: &[Ray],
+    rng: &mut Rng,
+) {
+    use octoray::scene::{SceneParts, SceneRef, Trace, INSTANCES};
+    let p = s.parts();
+    if p.unbounded.is_empty() {
+        return;
+    }
+    let copies = 2 + rng.below(3) as usize;
+    let mut trees = p.trees.to_vec();
+    let world_end = trees
+        .iter()
+        .find(|t| t.kind == INSTANCES)
+        .map_or(p.unbounded.len(), |t| t.first_unbounded as usize);
+    let repeat = |list: &[u32], out: &mut Vec<u32>| {
+        for &k in list {
+            out.extend(std::iter::repeat_n(k, copies));
+        }
+    };
+    let mut unbounded = Vec::new();
+    repeat(&p.unbounded[..world_end], &mut unbounded);
+    for t in trees.iter_mut().filter(|t| t.kind == INSTANCES) {
+        let (u0, n) = (t.first_unbounded as usize, t.unbounded as usize);
+        t.first_unbounded = unbounded.len() as u32;
+        t.unbounded = (n * copies) as u32;
+        repeat(&p.unbounded[u0..u0 + n], &mut unbounded);
+    }
+    let parts = SceneParts {
+        trees: &trees,
+        unbounded: &unbounded,
+        ..p
+    };
+    let dup = SceneRef::<VertexTriangle, PackedSphere>::new_bounded(parts, u64::MAX)
+        .expect("copies of unbounded entries are a valid scene");
+    assert!(dup.entries_within(u64::MAX) >= s.entries_within(u64::MAX));
+    for ray in rays {
+        assert_eq!(
+            dup.closest_ray::<f32x8, Watertight, StableSphere>(ray, !0),
+            s.closest_ray::<f32x8, Watertight, StableSphere>(ray, !0),
+            "duplicated unbounded entries, {ray:?}"
+        );
+    }
+    check_work_bound(&dup, rays);
 }
 
 /// The most visits of geometry trees a ray can make through `level` of a validated scene: each

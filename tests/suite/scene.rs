@@ -88,7 +88,7 @@ impl<T: Primitive + Sync> World<T> {
                 Target::Group(c) => s.place_group(None, *c as u32, i.transform, i.mask),
             };
         }
-        s.commit();
+        s.commit().expect("commit");
         s
     }
 }
@@ -614,7 +614,7 @@ fn equal_t_across_instances_goes_to_the_lower_instance() {
     s.add_instance(&[g], shift, u32::MAX);
     s.add_instance(&[g], Transform::IDENTITY, 2);
     s.add_instance(&[g], Transform::IDENTITY, u32::MAX);
-    s.commit();
+    s.commit().expect("commit");
     let ray = Ray::new(Vec3::new(0.1, 0.0, -2.0), Vec3::Z);
     let h = s
         .as_ref()
@@ -732,7 +732,7 @@ fn refit_and_moved_instances_equal_brute_force() {
                 }
             }
         }
-        scene.commit();
+        scene.commit().expect("commit");
         check::<f32x8, f32, Watertight, StableSphere>(&w, scene.as_ref(), &rays, &MASKS[..1]);
     }
 }
@@ -752,19 +752,19 @@ fn tracing_an_uncommitted_scene_panics() {
 type Tree = (Vec<octoray::bvh::Bvh8Node>, Vec<[f32; 8]>, Vec<u32>);
 
 /// Owned copies of a scene's slices (what a file would hold).
-struct Stored {
+pub(crate) struct Stored {
     tri: Tree,
     sph: Tree,
     top: Tree,
     geoms: Vec<Geometry>,
-    trees: Vec<SceneTree>,
+    pub(crate) trees: Vec<SceneTree>,
     members: Vec<Member>,
     insts: Vec<Instance>,
-    unbounded: Vec<u32>,
+    pub(crate) unbounded: Vec<u32>,
 }
 
 impl Stored {
-    fn of(p: &SceneParts<'_>) -> Self {
+    pub(crate) fn of(p: &SceneParts<'_>) -> Self {
         let t = |t: &octoray::scene::TreeParts<'_>| {
             (t.nodes.to_vec(), t.blocks.to_vec(), t.ids.to_vec())
         };
@@ -780,7 +780,7 @@ impl Stored {
         }
     }
 
-    fn parts(&self) -> SceneParts<'_> {
+    pub(crate) fn parts(&self) -> SceneParts<'_> {
         fn t(t: &Tree) -> octoray::scene::TreeParts<'_> {
             octoray::scene::TreeParts {
                 nodes: &t.0,
@@ -984,7 +984,7 @@ fn malformed_scenes_name_what_is_wrong() {
     deep.place_group(None, below, Transform::IDENTITY, !0);
     assert_eq!(
         deep.commit_with(&octoray::bvh::Sequential),
-        Err(octoray::bvh::BvhError::TooDeep)
+        Err(octoray::bvh::BvhError::TooManyLevels)
     );
 }
 
@@ -1019,7 +1019,7 @@ fn nested_scene() -> (Scene<VertexTriangle, PackedSphere>, Vec<[u32; 3]>) {
     s.place_group(None, row, shift(0.0, 5.0), !0);
     let mirror = Affine3A::from_scale(Vec3::new(1.0, -1.0, 1.0));
     s.place_group(None, row, Transform::placing(mirror).unwrap(), 2);
-    s.commit();
+    s.commit().expect("commit");
     // Path p = 6·world + 2·tile + quad. Stored: the world's instances 0..2, then the groups'
     // in the order made (the tile's 2..4, the row's 4..7).
     let paths = (0..12u32)

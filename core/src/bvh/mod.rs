@@ -154,6 +154,9 @@ pub enum BvhError {
     },
     /// Deeper than [`MAX_DEPTH`].
     TooDeep,
+    /// A scene's path from the world to a geometry would hold more instances than a scene
+    /// allows (`MAX_INSTANCE_LEVELS` of the scene module).
+    TooManyLevels,
     /// More primitives than [`MAX_PRIMS`].
     TooManyPrims(usize),
     /// A refit was given a slice of another length than the tree was built from.
@@ -190,6 +193,10 @@ impl core::fmt::Display for BvhError {
             BvhError::Unreachable { node } => write!(f, "no slot refers to node {node}"),
             BvhError::UnusedBlocks { slot } => write!(f, "no leaf holds block slot {slot}"),
             BvhError::TooDeep => write!(f, "tree deeper than {MAX_DEPTH}"),
+            BvhError::TooManyLevels => write!(
+                f,
+                "a path from the world would hold more instances than a scene allows"
+            ),
             BvhError::TooManyPrims(n) => {
                 write!(f, "{n} primitives; a tree holds at most {MAX_PRIMS}")
             }

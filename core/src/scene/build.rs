@@ -226,10 +226,10 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
     #[track_caller]
     pub fn set_geometry_mask(&mut self, geom: u32, mask: u32) {
         let n = self.geoms.len();
-        self.geoms
-            .get_mut(geom as usize)
-            .unwrap_or_else(|| panic!("octoray Scene: geometry {geom} of {n}"))
-            .mask = mask;
+        let Some(g) = self.geoms.get_mut(geom as usize) else {
+            panic!("octoray Scene: geometry {geom} of {n}");
+        };
+        g.mask = mask;
         for (t, tree) in self.trees.iter_mut().enumerate() {
             if self.sets[t].contains(&geom) {
                 tree.mask = self.sets[t]
@@ -323,10 +323,10 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
     /// Group `g`'s number of instances.
     #[track_caller]
     fn group_len(&self, g: u32) -> usize {
-        self.groups
-            .get(g as usize)
-            .unwrap_or_else(|| panic!("octoray Scene: group {g} of {}", self.groups.len()))
-            .len()
+        match self.groups.get(g as usize) {
+            Some(list) => list.len(),
+            None => panic!("octoray Scene: group {g} of {}", self.groups.len()),
+        }
     }
 
     /// The tree index of the set `geoms` (one kind), a new one when no tree holds that set.
@@ -336,15 +336,13 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
         set.sort_unstable();
         set.dedup();
         assert!(!set.is_empty(), "octoray Scene: an instance of no geometry");
-        let kind = |g: u32| {
-            self.geoms
-                .get(g as usize)
-                .unwrap_or_else(|| panic!("octoray Scene: geometry {g} of {}", self.geoms.len()))
-                .kind
-        };
-        let k = kind(set[0]);
+        let n = self.geoms.len();
+        if let Some(&g) = set.iter().find(|&&g| g as usize >= n) {
+            panic!("octoray Scene: geometry {g} of {n}");
+        }
+        let k = self.geoms[set[0] as usize].kind;
         assert!(
-            set.iter().all(|&g| kind(g) == k),
+            set.iter().all(|&g| self.geoms[g as usize].kind == k),
             "octoray Scene: an instance places geometries of one kind"
         );
         let tree = match self.sets.iter().position(|s| *s == set) {
@@ -418,8 +416,10 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
             Some(g) => &mut self.groups[g as usize],
         };
         let n = list.len();
-        list.get_mut(inst as usize)
-            .unwrap_or_else(|| panic!("octoray Scene: instance {inst} of {n}"))
+        match list.get_mut(inst as usize) {
+            Some(p) => p,
+            None => panic!("octoray Scene: instance {inst} of {n}"),
+        }
     }
 
     /// The primitives of tree `t`'s members, one after another.
@@ -507,16 +507,16 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
     #[track_caller]
     fn refit<J: Join>(&mut self, geom: u32, new: Prims<T, S>, join: &J) -> Result<(), BvhError> {
         let n = self.geoms.len();
-        let g = *self
-            .geoms
-            .get(geom as usize)
-            .unwrap_or_else(|| panic!("octoray Scene: geometry {geom} of {n}"));
+        let Some(&g) = self.geoms.get(geom as usize) else {
+            panic!("octoray Scene: geometry {geom} of {n}");
+        };
         let len = match &new {
             Prims::Triangles(p) => (g.kind == TRIANGLES).then_some(p.len()),
             Prims::Spheres(p) => (g.kind == SPHERES).then_some(p.len()),
         };
-        let len =
-            len.unwrap_or_else(|| panic!("octoray Scene: geometry {geom} is of the other kind"));
+        let Some(len) = len else {
+            panic!("octoray Scene: geometry {geom} is of the other kind");
+        };
         if len != g.prims as usize {
             return Err(BvhError::RefitLength {
                 built: g.prims as usize,
@@ -607,7 +607,9 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
     /// [`Scene::commit`] with the new trees built on `join`'s threads (the same scene).
     ///
     /// # Errors
-    /// When a tree or the scene's slices would outgrow `u32` indices.
+    /// [`BvhError::TooManyLevels`] when a path from the world would hold more than
+    /// [`MAX_INSTANCE_LEVELS`] instances; [`BvhError::TooManyPrims`] when a tree or the scene's
+    /// slices would outgrow `u32` indices. The scene is then not committed.
     pub fn commit_with<J: Join>(&mut self, join: &J) -> Result<(), BvhError> {
         for t in self.trees.len()..self.sets.len() {
             let kind = self.geoms[self.sets[t][0] as usize].kind;
@@ -642,7 +644,7 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
         for g in 0..self.groups.len() {
             let level = self.build_level(&self.groups[g], geo, &records, &extents, join)?;
             if level.levels + 1 >= MAX_INSTANCE_LEVELS {
-                return Err(BvhError::TooDeep);
+                return Err(BvhError::TooManyLevels);
             }
             records.push(SceneTree {
                 kind: INSTANCES,
@@ -767,14 +769,10 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
     /// level's unbounded list (every ray reaching the level visits them), those of empty trees
     /// nowhere.
     ///
-    /// # Panics
-    /// When a tree or the scene's slices would outgrow `u32` indices (use
-    /// [`Scene::commit_with`] for an error instead).
-    #[track_caller]
-    pub fn commit(&mut self) {
-        if let Err(e) = self.commit_with(&Sequential) {
-            panic!("octoray Scene::commit: {e}");
-        }
+    /// # Errors
+    /// As [`Scene::commit_with`].
+    pub fn commit(&mut self) -> Result<(), BvhError> {
+        self.commit_with(&Sequential)
     }
 
     /// Whether the scene can be traced: nothing changed since the last [`Scene::commit`].
@@ -792,7 +790,7 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
             self.committed,
             "octoray Scene::as_ref: the scene changed since its last commit"
         );
-        let parts = self.parts();
+        let parts = self.slices();
         let (nodes, blocks) = self.world_top;
         let roots = self.world.len();
         let world = Level {
@@ -811,9 +809,22 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
         SceneRef::built(parts, world)
     }
 
-    /// The slices (to store the scene; [`SceneRef::new`] reads them back). Call after
-    /// [`Scene::commit`].
+    /// The slices (to store the scene; [`SceneRef::new`] reads them back).
+    ///
+    /// # Panics
+    /// When instances or geometries changed since the last [`Scene::commit`] (the top level
+    /// would be stale), as [`Scene::as_ref`].
+    #[track_caller]
     pub fn parts(&self) -> SceneParts<'_> {
+        assert!(
+            self.committed,
+            "octoray Scene::parts: the scene changed since its last commit"
+        );
+        self.slices()
+    }
+
+    /// The slices as they are.
+    fn slices(&self) -> SceneParts<'_> {
         SceneParts {
             triangles: self.kinds[TRIANGLES as usize].parts(),
             spheres: self.kinds[SPHERES as usize].parts(),

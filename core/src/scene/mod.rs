@@ -57,12 +57,28 @@
 //! [`SceneRef::new`] takes any slices: it answers `Ok` or a [`SceneError`], never panics, in time
 //! linear in their total length and without an allocator. On a scene it accepts, every query is
 //! total: no panic, each node visited and each leaf slot tested at most once per ray and
-//! instance visit, every reported geometry, instance path and primitive in range. Groups
-//! multiply the work: a ray visits each tree of geometries at most once per instance path
-//! ([`SceneRef::paths`]) in a scene [`Scene`] built; a hostile scene can also name an instance
-//! in several slots of its level's tree, so its bound is the product, over at most
-//! [`MAX_INSTANCE_LEVELS`] levels, of each level's used tree slots and unbounded entries. A
-//! caller taking scenes from outside can refuse those whose paths or slots it will not pay for.
+//! instance entry, every reported geometry, instance path and primitive in range, only
+//! instances reached from the world traced (a group that no instance places contributes
+//! nothing).
+//!
+//! # Work per ray
+//! A ray enters an instance (carries itself into the instance's space and walks the tree it
+//! places) at most once per slot that names the instance in its level's tree and per entry of
+//! its level's unbounded list, at every visit of that level. The worst case over all rays, the
+//! scene's *entry bound* ([`SceneRef::entries_within`]), counts those entries down every level, as if
+//! every box were hit; each entry walks one tree, each node and leaf slot at most once.
+//! Without groups the entry bound is at most the world's used tree slots plus its unbounded
+//! entries; groups multiply it, level by level (a group of `n` instances placed `m` times costs
+//! up to `n · m` entries).
+//!
+//! Validation refuses a scene whose entry bound exceeds a budget, with
+//! [`SceneError::TooMuchWork`]: by default ([`SceneRef::new`], [`SceneRef::from_words`]) the
+//! scene's length in 32-bit words ([`SceneParts::words`]), so a stored scene of `w` words makes
+//! a ray enter at most `w` instances, each walking one tree of at most `w` words; a caller that
+//! trusts the scene's source and wants deeper instancing sets its own budget with
+//! [`SceneRef::new_bounded`] or [`SceneRef::from_words_bounded`]. Counting the bound stops at
+//! the budget, so validation stays linear in the scene's length plus the budget. A scene
+//! [`Scene`] built is not validated (its entry bound is what its instances make it).
 
 #[cfg(feature = "alloc")]
 mod build;
@@ -73,7 +89,7 @@ mod transform;
 pub use build::Scene;
 pub use transform::{Transform, MAX_CONDITION};
 
-use crate::bvh::{Bvh8Node, Bvh8Ref, BvhError, SLACK};
+use crate::bvh::{Bvh8Node, Bvh8Ref, BvhError, PAD, SLACK};
 use crate::lanes::Lanes;
 use crate::prim::{Aabb, Primitive, Words, BLOCK};
 
@@ -230,6 +246,25 @@ pub struct SceneParts<'a> {
     pub unbounded: &'a [u32],
 }
 
+impl SceneParts<'_> {
+    /// The scene's length in 32-bit words, every slice counted (what [`SceneRef::to_words`]
+    /// stores after its header): the default budget of [`SceneRef::new`].
+    pub fn words(&self) -> u64 {
+        fn tree(t: &TreeParts<'_>) -> usize {
+            size_of_val(t.nodes) + size_of_val(t.blocks) + size_of_val(t.ids)
+        }
+        let bytes = tree(&self.triangles)
+            + tree(&self.spheres)
+            + tree(&self.top)
+            + size_of_val(self.geometries)
+            + size_of_val(self.trees)
+            + size_of_val(self.members)
+            + size_of_val(self.instances)
+            + size_of_val(self.unbounded);
+        bytes as u64 / 4
+    }
+}
+
 /// Why a set of slices is not a valid scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SceneError {
@@ -284,6 +319,11 @@ pub enum SceneError {
     },
     /// More geometries, instances or instance paths than `u32` indices.
     TooMany,
+    /// A ray could enter more instances than the budget allows ([`SceneRef::entries_within`]).
+    TooMuchWork {
+        /// The budget: most instance entries per ray allowed.
+        budget: u64,
+    },
     /// Stored words ([`SceneRef::from_words`]) are not laid out as a stored scene (the reason).
     BadWords(&'static str),
 }
@@ -317,6 +357,10 @@ impl core::fmt::Display for SceneError {
             SceneError::TooMany => {
                 write!(f, "more geometries, instances or paths than u32 indices")
             }
+            SceneError::TooMuchWork { budget } => write!(
+                f,
+                "a ray could enter more than {budget} instances (the budget of per-ray work)"
+            ),
             SceneError::BadWords(why) => write!(f, "stored scene words: {why}"),
         }
     }
@@ -434,8 +478,34 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
     /// together covering their kind's slices exactly), each tree's members, each group's
     /// instances (placing trees before the group, their paths, levels, mask and slack as they
     /// make them), every instance's tree in range, the world's top-level tree over its
-    /// instances, the unbounded lists in range.
+    /// instances, the unbounded lists in range; and the work per ray, within the default
+    /// budget of [`SceneParts::words`] instance entries (see the module's "Work per ray").
+    ///
+    /// # Errors
+    /// The first [`SceneError`] found.
     pub fn new(parts: SceneParts<'a>) -> Result<Self, SceneError> {
+        Self::new_bounded(parts, parts.words())
+    }
+
+    /// [`SceneRef::new`] with the budget of per-ray work set by the caller: a scene whose rays
+    /// could enter more than `max_entries` instances ([`SceneRef::entries_within`]) is refused
+    /// with [`SceneError::TooMuchWork`]. Validation takes time linear in the slices' length plus
+    /// `max_entries`.
+    ///
+    /// # Errors
+    /// As [`SceneRef::new`].
+    pub fn new_bounded(parts: SceneParts<'a>, max_entries: u64) -> Result<Self, SceneError> {
+        let scene = Self::validate(parts)?;
+        match scene.entries_within(max_entries) {
+            Some(_) => Ok(scene),
+            None => Err(SceneError::TooMuchWork {
+                budget: max_entries,
+            }),
+        }
+    }
+
+    /// [`SceneRef::new`]'s checks but the work bound.
+    fn validate(parts: SceneParts<'a>) -> Result<Self, SceneError> {
         if u32::try_from(parts.geometries.len()).is_err()
             || u32::try_from(parts.instances.len()).is_err()
             || u32::try_from(parts.trees.len()).is_err()
@@ -608,7 +678,9 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
         Ok(Self::with_sole(parts, root))
     }
 
-    /// The scene, with the only instance's tree found once.
+    /// The scene, with the tree of its only instance found once (when the world's one instance
+    /// is the scene's only instance: a group that holds the only instance but is placed nowhere
+    /// is never traced).
     fn with_sole(parts: SceneParts<'a>, root: Level<'a>) -> Self {
         let mut s = Self {
             parts,
@@ -617,10 +689,45 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
                 || parts.trees.iter().any(|t| t.kind == INSTANCES),
             sole: None,
         };
-        if let [only] = parts.instances {
+        if let ([only], [_]) = (parts.instances, root.instances) {
             s.sole = s.tree(only.tree);
         }
         s
+    }
+
+    /// The scene's entry bound (the most instance entries one ray can make: see the module's
+    /// "Work per ray"), when it is at most `budget`; `None` when it exceeds `budget`. Takes
+    /// time linear in `budget` (the count stops there).
+    pub fn entries_within(&self, budget: u64) -> Option<u64> {
+        let mut left = budget;
+        self.level_entries(self.root, &mut left)
+            .then(|| budget - left)
+    }
+
+    /// Counts `level`'s instance entries, and those below them, off `left`; false when they
+    /// run out.
+    fn level_entries(&self, level: Level<'a>, left: &mut u64) -> bool {
+        let slots = level.top.ids().iter().filter(|&&k| k != PAD);
+        for inst in slots
+            .map(|&k| level.first.wrapping_add(k))
+            .chain(level.unbounded.iter().copied())
+        {
+            let Some(rest) = left.checked_sub(1) else {
+                return false;
+            };
+            *left = rest;
+            let below = self
+                .parts
+                .instances
+                .get(inst as usize)
+                .and_then(|i| self.tree(i.tree));
+            if let Some(TreeRef::Instances(group)) = below {
+                if !self.level_entries(group, left) {
+                    return false;
+                }
+            }
+        }
+        true
     }
 
     /// A scene [`Scene`] built (valid by construction: not validated again).

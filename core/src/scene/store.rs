@@ -77,12 +77,27 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
     }
 
     /// Reads a scene stored by [`SceneRef::to_words`] in place and validates it as
-    /// [`SceneRef::new`] does: total and linear in the words' length, whatever they hold.
+    /// [`SceneRef::new`] does (the default budget of per-ray work included): total and linear
+    /// in the words' length, whatever they hold.
     ///
     /// # Errors
     /// [`SceneError::BadWords`] when the header is not one of a scene of layouts `T` and `S` or
     /// the sections do not fill the words exactly; otherwise what [`SceneRef::new`] finds.
     pub fn from_words(words: &'a [u32]) -> Result<Self, SceneError> {
+        Self::new(Self::cut(words)?)
+    }
+
+    /// [`SceneRef::from_words`] with the caller's budget of per-ray work, as
+    /// [`SceneRef::new_bounded`].
+    ///
+    /// # Errors
+    /// As [`SceneRef::from_words`].
+    pub fn from_words_bounded(words: &'a [u32], max_entries: u64) -> Result<Self, SceneError> {
+        Self::new_bounded(Self::cut(words)?, max_entries)
+    }
+
+    /// The slices of stored words (not validated beyond the header and the sections' lengths).
+    fn cut(words: &'a [u32]) -> Result<SceneParts<'a>, SceneError> {
         let header = words
             .get(..HEADER)
             .ok_or(SceneError::BadWords("shorter than the header"))?;
@@ -113,7 +128,7 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
                 ids: cut[i + 2],
             })
         };
-        Self::new(SceneParts {
+        Ok(SceneParts {
             triangles: tree(0)?,
             spheres: tree(3)?,
             geometries: cast(cut[6])?,

@@ -502,9 +502,9 @@ fn walk_single<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: 
 ) -> (bool, Option<Best<L::Scalar>>) {
     let mut best = None;
     let leaf = Instances::<L, KT, KS>::world(scene, mask);
-    let any = if scene.instances().len() == 1 {
-        // One instance (a renderer's static world): no top level to walk; its tree's root test
-        // is the only box test it needs.
+    let any = if scene.world().instances.len() == 1 {
+        // One world instance (a renderer's static world): no top level to walk; its tree's
+        // root test is the only box test it needs.
         leaf.single_instance::<F, ANY>(0, ray, &mut best, filter, ray_id)
     } else {
         leaf.single_level::<F, ANY>(ray, &mut best, filter, ray_id)
@@ -559,7 +559,7 @@ fn walk_packet<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: 
     best: &mut PacketBest<L>,
 ) {
     let leaf = Instances::<L, KT, KS>::world(scene, mask);
-    if scene.instances().len() == 1 {
+    if scene.world().instances.len() == 1 {
         // As in `scene_single`.
         leaf.packet_instance::<F, ANY>(0, rays, rays.active, best, filter, ray_base);
     } else {
