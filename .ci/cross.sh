@@ -23,6 +23,11 @@ SLICE=(determinism:: embedded:: golden:: exact:: queries:: box_test:: packet_bit
   bvh::filtered_walks bvh::ties_go_to bvh::crack_suite bvh::build_is_deterministic
   bvh::empty_and_unhittable bvh::refit_rejects)
 
+# Under emulation the random tests run a quarter of their cases (OCTORAY_CASES, read by
+# testkit::cases; the native and baseline runs above run them all); the fixed data (the
+# determinism digest, the seed problems, the firmware's transcript) is the same.
+export OCTORAY_CASES="${OCTORAY_CASES:-0.25}"
+
 # slice TARGET NAME RUSTFLAGS: the slice for TARGET, built in its own target dir with only the
 # slice's modules of tests/suite (RUSTFLAGS applies to the target's artifacts only, and
 # replaces the config's flags for it).

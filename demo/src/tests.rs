@@ -14,6 +14,13 @@ use wide::f64x4;
 const W: u32 = 120;
 const H: u32 = 75;
 
+/// The embedded default scene, built once for every test that only reads it (it holds a
+/// 1.3 M-triangle mesh).
+fn default_scene() -> &'static Scene {
+    static SCENE: std::sync::OnceLock<Scene> = std::sync::OnceLock::new();
+    SCENE.get_or_init(Scene::default_scene)
+}
+
 fn kind_at(img: &scene::Image, p: (u32, u32)) -> PixelKind {
     img.kinds[(p.1 * img.width + p.0) as usize]
 }
@@ -25,7 +32,7 @@ fn luminance(img: &scene::Image, p: (u32, u32)) -> u32 {
 
 #[test]
 fn known_pixels_are_hit_missed_and_shadowed_as_the_geometry_dictates() {
-    let s = Scene::default_scene();
+    let s = default_scene();
     let mesh_centre = s.project(Vec3::new(0.0, 1.0, 0.0), W, H).unwrap();
     let sphere0 = s.project(s.spheres[0].0, W, H).unwrap();
     // Where sphere 0's centre casts its shadow on the ground: along −light down to y = 0.
@@ -109,7 +116,7 @@ fn known_pixels_are_hit_missed_and_shadowed_as_the_geometry_dictates() {
 
 #[test]
 fn the_auto_tier_is_explained() {
-    let s = Scene::default_scene();
+    let s = default_scene();
     let (tier, _, why) = resolve_tier(&s, TierArg::Auto, 8).unwrap();
     assert_eq!(tier, TierArg::Watertight, "{why}");
     assert!(why.contains("closed meshes"), "{why}");
@@ -327,7 +334,7 @@ fn a_png_that_cannot_be_written_is_an_error_at_every_size() {
     // With --output /dev/full, 16x16 and 64x64 images reported success: the buffered writer's
     // last write error was dropped. 640x400 failed (its writes overflowed the buffer).
     for (w, h) in [(16, 16), (64, 64), (200, 100)] {
-        let img = render_with::<f32x8, MollerTrumbore>(&Scene::default_scene(), w, h, &|_| {});
+        let img = render_with::<f32x8, MollerTrumbore>(default_scene(), w, h, &|_| {});
         let path = std::path::Path::new("/dev/full");
         let file = std::fs::OpenOptions::new().write(true).open(path).unwrap();
         let err = scene::write_png(&img, file, path).err();
@@ -337,7 +344,7 @@ fn a_png_that_cannot_be_written_is_an_error_at_every_size() {
         );
     }
     // A writable file still gets a whole PNG.
-    let img = render_with::<f32x8, MollerTrumbore>(&Scene::default_scene(), 16, 16, &|_| {});
+    let img = render_with::<f32x8, MollerTrumbore>(default_scene(), 16, 16, &|_| {});
     let path = std::env::temp_dir().join(format!("octoray-png-{}.png", std::process::id()));
     scene::write_png(&img, std::fs::File::create(&path).unwrap(), &path).unwrap();
     let bytes = std::fs::read(&path).unwrap();
@@ -403,7 +410,7 @@ fn ambient_occlusion_darkens_the_ground_next_to_the_spheres_and_nothing_else_cha
 /// (leaves ×8) and the standard tier (×16).
 #[test]
 fn the_field_of_instances_is_seen_lit_and_the_same_at_two_tiers() {
-    let s = Scene::default_scene();
+    let s = default_scene();
     assert_eq!(s.field.len(), 1600);
     assert!(s.virtual_triangles() > 2_000_000_000);
     let a = render_with::<f32x8, Watertight>(&s, W, H, &|_| {});
@@ -449,7 +456,7 @@ fn each_obj_model_is_its_own_geometry() {
 /// watertight tier (the C ABI's examples are checked against this digest).
 #[test]
 fn the_exported_scene_traces_to_the_rendered_digest() {
-    let s = Scene::default_scene();
+    let s = default_scene();
     let dir = std::env::temp_dir().join(format!("octoray-export-test-{}", std::process::id()));
     scene::export(&s, TierArg::Standard, W, H, &dir).unwrap();
     let stored = scene::stored_digest::<f32x8, MollerTrumbore>(&dir).unwrap();

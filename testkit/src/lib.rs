@@ -2,10 +2,12 @@
 //! published). The seven seed problems and ulp arithmetic (here), the exact big-integer oracle
 //! ([`oracle`]), accuracy measurements against it ([`accuracy`]), closed jittered meshes and the
 //! crack test ([`mesh`]), proptest strategies ([`strategies`]), the icosphere generator
-//! ([`icosphere`]) and the pinhole camera ([`camera`]) the demo and the scene benches use.
+//! ([`icosphere`]) and the pinhole camera ([`camera`]) the demo and the scene benches use; the
+//! case-count scale of the random tests ([`cases`]).
 #![forbid(unsafe_code)]
 
 pub mod accuracy;
+pub mod cases;
 pub mod camera;
 pub mod icosphere;
 pub mod mesh;

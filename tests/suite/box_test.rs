@@ -14,7 +14,7 @@ use proptest::prelude::*;
 use testkit::Rng;
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(4096))]
+    #![proptest_config(octoray_testkit::cases::proptest_config(4096))]
     /// The packet frustum never drops a child some valid lane's slab test keeps: random nodes
     /// (boxes at any scale, empty slots, flat boxes) against coherent packets (shared signs,
     /// zero components, NaN ranges and directions in some lanes), every t_max.
@@ -220,7 +220,7 @@ fn slab_case(rng: &mut Rng) -> Option<(Ray, Vec3, Vec3)> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(8192))]
+    #![proptest_config(octoray_testkit::cases::proptest_config(8192))]
     /// The slab test keeps every box the ray meets, decided exactly (`oracle::box_meets`), on
     /// boxes at a ray's decision edge ([`slab_case`], 16 per seed): a corner, an edge or a face
     /// through a point of the ray, then moved by up to 3 ulps; every scale, huge directions,

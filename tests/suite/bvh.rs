@@ -321,7 +321,7 @@ fn sphere_scene(seed: u64, range: Range) {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(48))]
+    #![proptest_config(octoray_testkit::cases::proptest_config(48))]
     #[test]
     fn bvh_equals_brute_force_on_triangle_scenes(seed in any::<u64>()) {
         triangle_scene(seed, ORDINARY);
@@ -334,7 +334,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(24))]
+    #![proptest_config(octoray_testkit::cases::proptest_config(24))]
     // Found three kernel bugs (tests/suite/hostile.rs): a sphere hit at t = 0 from an overflowed
     // discriminant, a standard-tier hit from subnormal products, and a watertight t_max decided
     // on a different t than the one reported.
@@ -672,7 +672,7 @@ fn refit_scene(seed: u64, amount: f32) {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(48))]
+    #![proptest_config(octoray_testkit::cases::proptest_config(48))]
     /// After a refit to moved vertices (a little, a lot, past the whole scene), every walk equals
     /// brute force on the new vertices, for every triangle tier; refitted back, the tree is the
     /// one built.
@@ -816,7 +816,7 @@ fn check_filtered<L: Lanes, K: Kernel<L> + Kernel<f32, Prim = <K as Kernel<L>>::
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(64))]
+    #![proptest_config(octoray_testkit::cases::proptest_config(64))]
     /// Filtered walks equal filtered brute force, for the f32 triangle tiers at every width.
     #[test]
     fn filtered_walks_equal_filtered_brute_force(seed in any::<u64>()) {
@@ -950,7 +950,7 @@ fn spatial_splits_cut_long_triangles_within_their_budget() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(256))]
+    #![proptest_config(octoray_testkit::cases::proptest_config(256))]
     /// A triangle's clip to a slab holds every point of the triangle in the slab (points
     /// sampled by barycentrics in f64), and is `None` only where no sampled point lies in it.
     #[test]

@@ -12,6 +12,7 @@ use octoray::prim::{Ray, RayLanes, VertexTriangle};
 use octoray_testkit as testkit;
 use std::cmp::Ordering;
 use testkit::accuracy::*;
+use testkit::cases::cases;
 use testkit::oracle;
 
 /// Checks every case; returns (exact hits, lanes decided by exact arithmetic).
@@ -58,16 +59,16 @@ fn check(name: &str, cases: &[TriCase]) -> (usize, usize) {
 
 #[test]
 fn random_rays() {
-    let (hits, _) = check("random", &random_cases(201, 100_000));
-    assert!(hits > 10_000);
+    let (hits, _) = check("random", &random_cases(201, cases(100_000)));
+    assert!(hits > cases(10_000));
 }
 
 #[test]
 fn rays_aimed_at_vertices_and_edges() {
-    let (hits, fallbacks) = check("vertices and edges", &edge_cases(202, 100_000));
-    assert!(hits > 10_000);
+    let (hits, fallbacks) = check("vertices and edges", &edge_cases(202, cases(100_000)));
+    assert!(hits > cases(10_000));
     // Aimed at f32 points of edges, a good share lands within rounding of an edge.
-    assert!(fallbacks > 100);
+    assert!(fallbacks > cases(100));
 }
 
 #[test]
@@ -76,7 +77,7 @@ fn grazing_rays() {
         let angle = 10f32.powi(-k);
         check(
             &format!("grazing 1e-{k} rad"),
-            &grazing_cases(210 + i as u64, 10_000, angle),
+            &grazing_cases(210 + i as u64, cases(10_000), angle),
         );
     }
 }
@@ -87,7 +88,7 @@ fn long_thin_triangles() {
         let aspect = 10f32.powi(k);
         check(
             &format!("thin, aspect 1e{k}"),
-            &thin_cases(220 + i as u64, 20_000, aspect),
+            &thin_cases(220 + i as u64, cases(20_000), aspect),
         );
     }
 }
@@ -100,7 +101,7 @@ fn translated_and_scaled_from_1e_minus_20_to_1e30() {
             seed += 1;
             check(
                 &format!("offset {offset:e} scale {scale:e}"),
-                &translated_cases(seed, 2_000, offset, scale),
+                &translated_cases(seed, cases(2_000), offset, scale),
             );
         }
     }
@@ -126,11 +127,11 @@ fn floor_ceil(truth: &oracle::TriangleTruth) -> (f32, f32) {
 
 #[test]
 fn t_min_and_t_max_at_the_hit() {
-    let mut cases = Vec::new();
-    for c in random_cases(240, 10_000)
+    let mut bounded = Vec::new();
+    for c in random_cases(240, cases(10_000))
         .into_iter()
-        .chain(edge_cases(241, 10_000))
-        .chain(thin_cases(242, 10_000, 1e3))
+        .chain(edge_cases(241, cases(10_000)))
+        .chain(thin_cases(242, cases(10_000), 1e3))
     {
         let truth = oracle::triangle(&c.ray, c.v);
         if !truth.hit_finite() || truth.t.abs() >= 1e38 {
@@ -152,9 +153,9 @@ fn t_min_and_t_max_at_the_hit() {
                 t_max,
                 ..c.ray
             };
-            cases.push(TriCase { ray, v: c.v });
+            bounded.push(TriCase { ray, v: c.v });
         }
     }
-    let (hits, fallbacks) = check("t_min/t_max at the hit", &cases);
-    assert!(hits > 25_000 && fallbacks > 2_500);
+    let (hits, fallbacks) = check("t_min/t_max at the hit", &bounded);
+    assert!(hits > cases(25_000) && fallbacks > cases(2_500));
 }

@@ -152,7 +152,7 @@ fn check_all_widths_spheres(rays: &[Ray], spheres: &[(Vec3, f32)]) -> Result<(),
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 400, ..ProptestConfig::default() })]
+    #![proptest_config(octoray_testkit::cases::proptest_config(400))]
 
     /// Adversarial triangles and rays aimed at their vertices, edges, interiors, grazing, or
     /// anywhere; scenes scaled to huge and tiny coordinates; NaN/Inf sprinkled in.

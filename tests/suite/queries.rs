@@ -255,7 +255,7 @@ fn keeps_hits<L: Lanes, K: Kernel<L>>(rays: &[Ray], prim: &K::Prim) -> usize {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(64))]
+    #![proptest_config(octoray_testkit::cases::proptest_config(64))]
 
     /// The closest-hit queries and the BVH lower `t_max` to the running best (loosened) and
     /// rely on every kernel that rounds its `t_max` test (`EXACT_T_MAX = false`) keeping a hit
