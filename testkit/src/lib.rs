@@ -7,8 +7,8 @@
 #![forbid(unsafe_code)]
 
 pub mod accuracy;
-pub mod cases;
 pub mod camera;
+pub mod cases;
 pub mod icosphere;
 pub mod mesh;
 pub mod oracle;
