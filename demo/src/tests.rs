@@ -42,19 +42,19 @@ fn known_pixels_are_hit_missed_and_shadowed_as_the_geometry_dictates() {
     for (what, img) in [
         (
             "standard x8",
-            render_with::<f32x8, MollerTrumbore>(&s, W, H, &|_| {}),
+            render_with::<f32x8, MollerTrumbore>(s, W, H, &|_| {}),
         ),
         (
             "watertight x16",
-            render_with::<f32x16, Watertight>(&s, W, H, &|_| {}),
+            render_with::<f32x16, Watertight>(s, W, H, &|_| {}),
         ),
         (
             "standard x4",
-            render_with::<f32x4, MollerTrumbore>(&s, W, H, &|_| {}),
+            render_with::<f32x4, MollerTrumbore>(s, W, H, &|_| {}),
         ),
         (
             "f64 x4",
-            render_with::<f64x4, MollerTrumbore>(&s, W, H, &|_| {}),
+            render_with::<f64x4, MollerTrumbore>(s, W, H, &|_| {}),
         ),
     ] {
         assert_eq!(
@@ -117,7 +117,7 @@ fn known_pixels_are_hit_missed_and_shadowed_as_the_geometry_dictates() {
 #[test]
 fn the_auto_tier_is_explained() {
     let s = default_scene();
-    let (tier, _, why) = resolve_tier(&s, TierArg::Auto, 8).unwrap();
+    let (tier, _, why) = resolve_tier(s, TierArg::Auto, 8).unwrap();
     assert_eq!(tier, TierArg::Watertight, "{why}");
     assert!(why.contains("closed meshes"), "{why}");
 }
@@ -413,8 +413,8 @@ fn the_field_of_instances_is_seen_lit_and_the_same_at_two_tiers() {
     let s = default_scene();
     assert_eq!(s.field.len(), 1600);
     assert!(s.virtual_triangles() > 2_000_000_000);
-    let a = render_with::<f32x8, Watertight>(&s, W, H, &|_| {});
-    let b = render_with::<f32x16, MollerTrumbore>(&s, W, H, &|_| {});
+    let a = render_with::<f32x8, Watertight>(s, W, H, &|_| {});
+    let b = render_with::<f32x16, MollerTrumbore>(s, W, H, &|_| {});
     assert_eq!(a.counts, (3, 3, 1603));
     let field: Vec<bool> = a
         .kinds
@@ -458,13 +458,13 @@ fn each_obj_model_is_its_own_geometry() {
 fn the_exported_scene_traces_to_the_rendered_digest() {
     let s = default_scene();
     let dir = std::env::temp_dir().join(format!("octoray-export-test-{}", std::process::id()));
-    scene::export(&s, TierArg::Standard, W, H, &dir).unwrap();
+    scene::export(s, TierArg::Standard, W, H, &dir).unwrap();
     let stored = scene::stored_digest::<f32x8, MollerTrumbore>(&dir).unwrap();
-    let rendered = render_with::<f32x8, MollerTrumbore>(&s, W, H, &|_| {});
+    let rendered = render_with::<f32x8, MollerTrumbore>(s, W, H, &|_| {});
     assert_eq!(stored, rendered.digest, "standard");
-    scene::export(&s, TierArg::Watertight, W, H, &dir).unwrap();
+    scene::export(s, TierArg::Watertight, W, H, &dir).unwrap();
     let stored = scene::stored_digest::<f32x8, Watertight>(&dir).unwrap();
-    let rendered = render_with::<f32x8, Watertight>(&s, W, H, &|_| {});
+    let rendered = render_with::<f32x8, Watertight>(s, W, H, &|_| {});
     assert_eq!(stored, rendered.digest, "watertight");
     // A scene stored for the other layout is refused, not misread.
     let err = scene::stored_digest::<f32x8, MollerTrumbore>(&dir).unwrap_err();

@@ -852,8 +852,11 @@ fn run_scene(rng: &mut Rng) {
                     *t = VertexTriangle::new(v[0], v[1], v[2]);
                 }
                 // Left-out primitives that became finite are an error, and then nothing moved.
-                if scene.refit_triangles(g as u32, &geo.1).is_err() {
-                    geo.1 = old;
+                // A refit leaves the scene stale until it is committed (the stale-parts case:
+                // `Scene::parts` and `Scene::as_ref` refuse it).
+                match scene.refit_triangles(g as u32, &geo.1) {
+                    Ok(()) => assert!(!scene.is_committed(), "a refitted scene is stale"),
+                    Err(_) => geo.1 = old,
                 }
             }
         }
