@@ -10,7 +10,7 @@
 //! print the same.
 use octoray::f32x8;
 use octoray::glam::{Affine3A, Mat3A, Vec3, Vec3A};
-use octoray::hit::Hit;
+use octoray::hit::{Digest, Hit};
 use octoray::kernels::{Exact, Kernel, MollerTrumbore, StableSphere, Watertight};
 use octoray::prim::{PackedSphere, PackedTriangle, Primitive, Ray, VertexTriangle};
 use octoray::scene::{Scene, Trace, Transform};
@@ -19,13 +19,6 @@ use octoray_demo::scene::{stored_digest, TierArg, Triangles};
 const GRID: u32 = 24;
 const WIDTH: u32 = 64;
 const HEIGHT: u32 = 48;
-
-/// FNV-1a over 32-bit words.
-fn word(h: &mut u64, w: u32) {
-    for b in w.to_le_bytes() {
-        *h = (*h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3);
-    }
-}
 
 fn camera(k: u32) -> Ray {
     let dx = ((k % WIDTH) as f32 + 0.5) / 32.0 - 1.0;
@@ -100,24 +93,10 @@ where
     let mut blocked = vec![false; shadow.len()];
     s.occluded::<f32x8, KT, StableSphere>(&shadow, !0, &mut blocked);
 
-    let mut digest = 0xcbf2_9ce4_8422_2325;
-    for h in &hits {
-        let w = match h {
-            Some(h) => [
-                h.t.to_bits(),
-                h.u.to_bits(),
-                h.v.to_bits(),
-                h.prim,
-                h.geom,
-                h.inst,
-            ],
-            None => [f32::INFINITY.to_bits(), 0, 0, u32::MAX, u32::MAX, u32::MAX],
-        };
-        w.into_iter().for_each(|w| word(&mut digest, w));
-    }
-    blocked
-        .iter()
-        .for_each(|&b| word(&mut digest, u32::from(b)));
+    let mut digest = Digest::new();
+    hits.iter().for_each(|&h| digest.placed_hit(h));
+    blocked.iter().for_each(|&b| digest.word(u32::from(b)));
+    let digest = digest.value();
     println!(
         "tier {tier}: {} rays, {} hit, {} in shadow, digest 0x{digest:016x}",
         rays.len(),

@@ -26,6 +26,76 @@ pub struct Hit {
     pub inst: u32,
 }
 
+impl Hit {
+    /// A scene's answer as six words, the way the C ABI reports it: the bits of `t`, `u` and
+    /// `v`, then the primitive, geometry and instance; a miss as the bits of `f32::INFINITY`,
+    /// two zeros and three `u32::MAX`.
+    pub fn words(hit: Option<Hit>) -> [u32; 6] {
+        match hit {
+            Some(h) => [
+                h.t.to_bits(),
+                h.u.to_bits(),
+                h.v.to_bits(),
+                h.prim,
+                h.geom,
+                h.inst,
+            ],
+            None => [f32::INFINITY.to_bits(), 0, 0, u32::MAX, u32::MAX, u32::MAX],
+        }
+    }
+}
+
+/// FNV-1a (64-bit) over 32-bit words, each fed as its four little-endian bytes: a digest that
+/// shows two runs gave the same bits (the determinism test, the demo, the C ABI's examples and
+/// the Cortex-M firmware print it). It detects differences; it is not a cryptographic hash.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Digest(u64);
+
+impl Default for Digest {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Digest {
+    /// The empty digest (FNV-1a's offset basis).
+    pub const fn new() -> Self {
+        Self(0xcbf2_9ce4_8422_2325)
+    }
+
+    /// Adds one word.
+    pub fn word(&mut self, w: u32) {
+        for b in w.to_le_bytes() {
+            self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x100_0000_01b3);
+        }
+    }
+
+    /// Adds a kernel's answer: the bits of `t`, `u`, `v` and the primitive of a hit, or one
+    /// word `u32::MAX` for a miss.
+    pub fn hit(&mut self, hit: Option<Hit>) {
+        match hit {
+            None => self.word(u32::MAX),
+            Some(h) => {
+                for w in [h.t.to_bits(), h.u.to_bits(), h.v.to_bits(), h.prim] {
+                    self.word(w);
+                }
+            }
+        }
+    }
+
+    /// Adds a scene's answer: its six [`Hit::words`].
+    pub fn placed_hit(&mut self, hit: Option<Hit>) {
+        for w in Hit::words(hit) {
+            self.word(w);
+        }
+    }
+
+    /// The digest of everything added.
+    pub const fn value(self) -> u64 {
+        self.0
+    }
+}
+
 /// A hit a kernel reported, shown to a [`HitFilter`] before it counts.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Candidate {

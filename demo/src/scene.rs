@@ -1,7 +1,7 @@
 //! The demo's embedded scene and its packet tracer.
 
 use octoray::glam::{Affine3A, DVec3, Quat, Vec3};
-use octoray::hit::Hit;
+use octoray::hit::{Digest, Hit};
 use octoray::ingest;
 use octoray::kernels::{Kernel, StableSphere};
 use octoray::lanes::Lanes;
@@ -394,28 +394,11 @@ pub struct Image {
     pub digest: u64,
 }
 
-/// A hit as the words the digest takes (a miss as the C ABI reports it).
-fn hit_words(h: Option<Hit>) -> [u32; 6] {
-    match h {
-        Some(h) => [
-            h.t.to_bits(),
-            h.u.to_bits(),
-            h.v.to_bits(),
-            h.prim,
-            h.geom,
-            h.inst,
-        ],
-        None => [f32::INFINITY.to_bits(), 0, 0, u32::MAX, u32::MAX, u32::MAX],
-    }
-}
-
-/// FNV-1a over little-endian words.
+/// FNV-1a over words ([`Digest`]).
 fn fnv(words: impl Iterator<Item = u32>) -> u64 {
-    words.fold(0xcbf2_9ce4_8422_2325, |h, w| {
-        w.to_le_bytes()
-            .iter()
-            .fold(h, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3))
-    })
+    let mut d = Digest::new();
+    words.for_each(|w| d.word(w));
+    d.value()
 }
 
 /// A triangle layout the demo traces, made from a triangle's three vertices.
@@ -695,7 +678,7 @@ where
                 kinds.push(kind);
             }
             progress(1);
-            (rgb, kinds, hits.into_iter().map(hit_words).collect())
+            (rgb, kinds, hits.into_iter().map(Hit::words).collect())
         })
         .collect();
     let digest = fnv(rows.iter().flat_map(|r| r.2.iter().flatten().copied()));
@@ -793,7 +776,7 @@ where
         .collect();
     let mut hits = vec![None; rays.len()];
     world.closest::<L, K, StableSphere>(&rays, !0, &mut hits);
-    Ok(fnv(hits.into_iter().flat_map(hit_words)))
+    Ok(fnv(hits.into_iter().flat_map(Hit::words)))
 }
 
 /// Packets of 4, 8 or 16 f32 lanes.

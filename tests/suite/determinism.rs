@@ -11,7 +11,7 @@
 use octoray_testkit as testkit;
 
 use octoray::f32x8;
-use octoray::hit::Hit;
+use octoray::hit::Digest;
 use octoray::kernels::{Exact, Kernel, MollerTrumbore, StableSphere, Watertight};
 use octoray::prim::{PackedSphere, PackedTriangle, Ray, RayLanes, VertexTriangle};
 use octoray::query::closest;
@@ -21,28 +21,8 @@ use testkit::accuracy::{
 
 const STORED: u64 = 0x6fdd_5018_5f73_e999;
 
-/// FNV-1a over 32-bit words.
-struct Fnv(u64);
-impl Fnv {
-    fn word(&mut self, w: u32) {
-        for b in w.to_le_bytes() {
-            self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x100_0000_01b3);
-        }
-    }
-    fn hit(&mut self, h: Option<Hit>) {
-        match h {
-            None => self.word(0xffff_ffff),
-            Some(h) => {
-                for w in [h.t.to_bits(), h.u.to_bits(), h.v.to_bits(), h.prim] {
-                    self.word(w);
-                }
-            }
-        }
-    }
-}
-
 /// Each ray against a group of 8 primitives, closest hit, at width 1 and 8.
-fn digest_kernel<K, P>(f: &mut Fnv, rays: &[Ray], prims: &[P])
+fn digest_kernel<K, P>(f: &mut Digest, rays: &[Ray], prims: &[P])
 where
     K: Kernel<f32, Prim = P> + Kernel<f32x8, Prim = P>,
     P: Copy,
@@ -57,7 +37,7 @@ where
 }
 
 fn digest() -> u64 {
-    let mut f = Fnv(0xcbf2_9ce4_8422_2325);
+    let mut f = Digest::new();
     let mut cases = random_cases(7001, 4000);
     cases.extend(edge_cases(7002, 4000));
     cases.extend(grazing_cases(7003, 2000, 1e-4));
@@ -81,7 +61,7 @@ fn digest() -> u64 {
         .map(|c| PackedSphere::new(c.center, c.radius))
         .collect();
     digest_kernel::<StableSphere, _>(&mut f, &srays, &spheres);
-    f.0
+    f.value()
 }
 
 #[test]

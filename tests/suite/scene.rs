@@ -93,17 +93,8 @@ impl<T: Primitive + Sync> World<T> {
     }
 }
 
-fn bits(h: Option<Hit>) -> Option<(u32, u32, u32, u32, u32, u32)> {
-    h.map(|h| {
-        (
-            h.t.to_bits(),
-            h.u.to_bits(),
-            h.v.to_bits(),
-            h.prim,
-            h.geom,
-            h.inst,
-        )
-    })
+fn bits(h: Option<Hit>) -> Option<[u32; 6]> {
+    h.map(|h| Hit::words(Some(h)))
 }
 
 /// Brute force: every admitted instance's primitives with its transformed ray; the nearest `t`,

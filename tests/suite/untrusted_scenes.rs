@@ -419,3 +419,25 @@ fn stale_parts_cannot_be_taken() {
     })
     .is_some());
 }
+
+/// What the scene docs state of threads: an owned scene and its borrowed view move between and
+/// are shared by threads, and a committed scene traced from several threads at once answers as
+/// from one.
+#[test]
+fn scenes_are_send_and_sync_and_trace_alike_from_threads() {
+    fn send_sync<X: Send + Sync>() {}
+    send_sync::<S>();
+    send_sync::<R<'static>>();
+    let scene = chain(2, Transform::IDENTITY);
+    let r = scene.as_ref();
+    let one = r.closest_ray::<f32x8, Watertight, StableSphere>(&down(), !0);
+    assert!(one.is_some());
+    std::thread::scope(|t| {
+        let runs: Vec<_> = (0..4)
+            .map(|_| t.spawn(|| r.closest_ray::<f32x8, Watertight, StableSphere>(&down(), !0)))
+            .collect();
+        for run in runs {
+            assert_eq!(run.join().unwrap(), one);
+        }
+    });
+}

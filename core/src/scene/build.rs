@@ -101,6 +101,11 @@ struct BuiltLevel {
 /// and `place_group(None, …)` places it in the world, as many times as wanted. A hit's
 /// `inst` numbers its instance path ([`SceneRef::instance_path`]). The scene keeps a copy of every
 /// geometry's primitives (for the builds and refits of the trees that share it).
+///
+/// # Threads
+/// `Scene` and [`SceneRef`] are `Send` and `Sync` (for `Send`/`Sync` layouts, as every layout
+/// of the crate is): a committed scene is traced from any number of threads at once through
+/// shared `SceneRef`s (queries take `&self` and allocate nothing); changing it takes `&mut`.
 #[derive(Clone, Debug)]
 pub struct Scene<T, S> {
     prims: Vec<Prims<T, S>>,

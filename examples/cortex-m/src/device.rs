@@ -9,7 +9,8 @@ use cortex_m_semihosting::hio::{self, HostStream};
 use octoray::kernels::Kernel;
 use octoray::scene::closest_ray;
 
-use crate::job::{self, Fnv};
+use crate::job;
+use octoray::hit::Digest;
 
 /// Stored bytes, aligned for reading as words.
 #[repr(C, align(4))]
@@ -88,11 +89,11 @@ pub fn one_tier<K: Kernel<f32>>(name: &str, words: &[u32]) -> ! {
     let Ok(tree) = job::parse::<K::Prim>(words) else {
         exit(false)
     };
-    let (mut f, mut hits) = (Fnv::default(), 0);
+    let (mut f, mut hits) = (Digest::new(), 0);
     for r in &job::primaries() {
         let h = closest_ray::<f32, K>(tree, r);
         hits += usize::from(h.is_some());
         f.hit(h);
     }
-    exit(writeln!(out, "{name}: {hits} hits, digest 0x{:016x}", f.0).is_ok())
+    exit(writeln!(out, "{name}: {hits} hits, digest 0x{:016x}", f.value()).is_ok())
 }

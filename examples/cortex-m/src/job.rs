@@ -8,7 +8,7 @@ use core::fmt::{self, Write};
 use octoray::bvh::{Bvh8Node, Bvh8Ref};
 use octoray::f32x4;
 use octoray::glam::Vec3;
-use octoray::hit::Hit;
+use octoray::hit::Digest;
 use octoray::kernels::{StableSphere, Watertight};
 use octoray::prim::{
     PackedSphere, PackedTriangle, Primitive, Ray, RayLanes, Sphere, VertexTriangle, BLOCK,
@@ -113,37 +113,6 @@ pub fn parse<P: Primitive>(words: &[u32]) -> Result<Bvh8Ref<'_, P>, &'static str
     Bvh8Ref::new(nodes, blocks, ids, prims).map_err(|_| "the tree does not validate")
 }
 
-/// FNV-1a over 32-bit words.
-pub struct Fnv(pub u64);
-
-impl Default for Fnv {
-    /// The empty digest (FNV-1a's offset basis).
-    fn default() -> Self {
-        Self(0xcbf2_9ce4_8422_2325)
-    }
-}
-
-impl Fnv {
-    /// Adds one word.
-    pub fn word(&mut self, w: u32) {
-        for b in w.to_le_bytes() {
-            self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x100_0000_01b3);
-        }
-    }
-
-    /// Adds a hit's `t`, `u`, `v` and primitive, or a marker for a miss.
-    pub fn hit(&mut self, h: Option<Hit>) {
-        match h {
-            None => self.word(0xffff_ffff),
-            Some(h) => {
-                for w in [h.t.to_bits(), h.u.to_bits(), h.v.to_bits(), h.prim] {
-                    self.word(w);
-                }
-            }
-        }
-    }
-}
-
 /// The seed ray and primitives of `shared/seed/problems.md`.
 pub fn seed() -> (Ray, [VertexTriangle; 3], [Sphere; 4]) {
     let v = Vec3::new;
@@ -178,7 +147,7 @@ pub struct Summary {
 
 /// Runs the job on a stored tree's words, writing the transcript to `out`.
 pub fn run(words: &[u32], out: &mut impl Write) -> Result<Summary, fmt::Error> {
-    let mut f = Fnv::default();
+    let mut f = Digest::new();
     let (ray, tris, spheres) = seed();
     for (i, tri) in tris.iter().enumerate() {
         let s = textbook::triangle_steps(&ray, tri, InsideTest::Full);
@@ -270,11 +239,11 @@ pub fn run(words: &[u32], out: &mut impl Write) -> Result<Summary, fmt::Error> {
         rays.len() - packet_mismatches,
         rays.len()
     )?;
-    writeln!(out, "digest 0x{:016x}", f.0)?;
+    writeln!(out, "digest 0x{:016x}", f.value())?;
     Ok(Summary {
         hits,
         tree_mismatches,
         packet_mismatches,
-        digest: f.0,
+        digest: f.value(),
     })
 }
