@@ -65,8 +65,8 @@
 //! A ray enters an instance (carries itself into the instance's space and walks the tree it
 //! places) at most once per slot that names the instance in its level's tree and per entry of
 //! its level's unbounded list, at every visit of that level. The worst case over all rays, the
-//! scene's *entry bound* ([`SceneRef::entries_within`]), counts those entries down every level, as if
-//! every box were hit; each entry walks one tree, each node and leaf slot at most once.
+//! scene's *entry bound* ([`SceneRef::entries_within`]), counts those entries down every level,
+//! as if every box were hit; each entry walks one tree, each node and leaf slot at most once.
 //! Without groups the entry bound is at most the world's used tree slots plus its unbounded
 //! entries; groups multiply it, level by level (a group of `n` instances placed `m` times costs
 //! up to `n · m` entries).
@@ -244,25 +244,6 @@ pub struct SceneParts<'a> {
     pub top: TreeParts<'a>,
     /// Instances that are not in the top-level tree (every ray visits them).
     pub unbounded: &'a [u32],
-}
-
-impl SceneParts<'_> {
-    /// The scene's length in 32-bit words, every slice counted (what [`SceneRef::to_words`]
-    /// stores after its header): the default budget of [`SceneRef::new`].
-    pub fn words(&self) -> u64 {
-        fn tree(t: &TreeParts<'_>) -> usize {
-            size_of_val(t.nodes) + size_of_val(t.blocks) + size_of_val(t.ids)
-        }
-        let bytes = tree(&self.triangles)
-            + tree(&self.spheres)
-            + tree(&self.top)
-            + size_of_val(self.geometries)
-            + size_of_val(self.trees)
-            + size_of_val(self.members)
-            + size_of_val(self.instances)
-            + size_of_val(self.unbounded);
-        bytes as u64 / 4
-    }
 }
 
 /// Why a set of slices is not a valid scene.

@@ -40,31 +40,43 @@ fn cast<T: bytemuck::Pod>(s: &[u32]) -> Result<&[T], SceneError> {
     bytemuck::try_cast_slice(s).map_err(|_| SceneError::BadWords("a section is not whole"))
 }
 
+impl<'a> SceneParts<'a> {
+    /// The slices as the sections of a stored scene, in order, as words.
+    fn sections(&self) -> [&'a [u32]; SECTIONS] {
+        [
+            bytemuck::cast_slice(self.triangles.nodes),
+            bytemuck::cast_slice(self.triangles.blocks),
+            self.triangles.ids,
+            bytemuck::cast_slice(self.spheres.nodes),
+            bytemuck::cast_slice(self.spheres.blocks),
+            self.spheres.ids,
+            bytemuck::cast_slice(self.geometries),
+            bytemuck::cast_slice(self.trees),
+            bytemuck::cast_slice(self.members),
+            bytemuck::cast_slice(self.instances),
+            bytemuck::cast_slice(self.top.nodes),
+            bytemuck::cast_slice(self.top.blocks),
+            self.top.ids,
+            self.unbounded,
+        ]
+    }
+
+    /// The scene's length in 32-bit words, every slice counted (what [`SceneRef::to_words`]
+    /// stores after its header): the default budget of [`SceneRef::new`].
+    pub fn words(&self) -> u64 {
+        self.sections().iter().map(|s| s.len() as u64).sum()
+    }
+}
+
 impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
     /// The scene as words: a header (a magic word, `T::WORDS`, `S::WORDS`, `T::TAG`, `S::TAG`,
-    /// each slice's length), then every slice of [`SceneRef::parts`] in turn. Write them little-endian to store the
-    /// scene; [`SceneRef::from_words`] reads them back.
+    /// each slice's length), then every slice of [`SceneRef::parts`] in turn. Write them
+    /// little-endian to store the scene; [`SceneRef::from_words`] reads them back.
     #[cfg(feature = "alloc")]
     pub fn to_words(&self) -> alloc::vec::Vec<u32> {
         let p = self.parts();
-        let w = |s: &[u32]| s.len();
-        let sections: [&[u32]; SECTIONS] = [
-            bytemuck::cast_slice(p.triangles.nodes),
-            bytemuck::cast_slice(p.triangles.blocks),
-            p.triangles.ids,
-            bytemuck::cast_slice(p.spheres.nodes),
-            bytemuck::cast_slice(p.spheres.blocks),
-            p.spheres.ids,
-            bytemuck::cast_slice(p.geometries),
-            bytemuck::cast_slice(p.trees),
-            bytemuck::cast_slice(p.members),
-            bytemuck::cast_slice(p.instances),
-            bytemuck::cast_slice(p.top.nodes),
-            bytemuck::cast_slice(p.top.blocks),
-            p.top.ids,
-            p.unbounded,
-        ];
-        let total = HEADER + sections.iter().map(|s| w(s)).sum::<usize>();
+        let sections = p.sections();
+        let total = HEADER + sections.iter().map(|s| s.len()).sum::<usize>();
         let mut out = alloc::vec::Vec::with_capacity(total);
         out.extend([MAGIC, T::WORDS as u32, S::WORDS as u32, T::TAG, S::TAG]);
         for (s, e) in sections.iter().zip(element_words()) {
