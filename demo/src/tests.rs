@@ -22,6 +22,20 @@ fn default_scene() -> &'static Scene {
     SCENE.get_or_init(Scene::default_scene)
 }
 
+/// The default scene at `W`×`H`, standard tier, 8 lanes: rendered once for the tests that read
+/// the same picture.
+fn standard_x8() -> &'static scene::Image {
+    static IMAGE: std::sync::OnceLock<scene::Image> = std::sync::OnceLock::new();
+    IMAGE.get_or_init(|| render_with::<f32x8, MollerTrumbore>(default_scene(), W, H, &|_| {}))
+}
+
+/// The default scene at `W`×`H`, watertight tier, 8 lanes: rendered once for the tests that
+/// read the same picture.
+fn watertight_x8() -> &'static scene::Image {
+    static IMAGE: std::sync::OnceLock<scene::Image> = std::sync::OnceLock::new();
+    IMAGE.get_or_init(|| render_with::<f32x8, Watertight>(default_scene(), W, H, &|_| {}))
+}
+
 fn kind_at(img: &scene::Image, p: (u32, u32)) -> PixelKind {
     img.kinds[(p.1 * img.width + p.0) as usize]
 }
@@ -40,29 +54,21 @@ fn known_pixels_are_hit_missed_and_shadowed_as_the_geometry_dictates() {
     let (c, _) = s.spheres[0];
     let shadow = s.project(c - s.light * (c.y / s.light.y), W, H).unwrap();
     let lit_ground = s.project(Vec3::new(-2.5, 0.0, 2.5), W, H).unwrap();
+    let f64_x4 = render_with::<f64x4, MollerTrumbore>(s, W, H, &|_| {});
     for (what, img) in [
-        (
-            "standard x8",
-            render_with::<f32x8, MollerTrumbore>(s, W, H, &|_| {}),
-        ),
-        (
-            "watertight x8",
-            render_with::<f32x8, Watertight>(s, W, H, &|_| {}),
-        ),
-        (
-            "f64 x4",
-            render_with::<f64x4, MollerTrumbore>(s, W, H, &|_| {}),
-        ),
+        ("standard x8", standard_x8()),
+        ("watertight x8", watertight_x8()),
+        ("f64 x4", &f64_x4),
     ] {
         assert_eq!(
-            kind_at(&img, (0, 0)),
+            kind_at(img, (0, 0)),
             PixelKind::Sky,
             "{what}: top-left is sky"
         );
         assert!(
-            matches!(kind_at(&img, mesh_centre), PixelKind::Mesh { .. }),
+            matches!(kind_at(img, mesh_centre), PixelKind::Mesh { .. }),
             "{what}: mesh centre {:?}",
-            kind_at(&img, mesh_centre)
+            kind_at(img, mesh_centre)
         );
         // The jittered mesh shadows itself in its pockets, but most of what the camera sees of it
         // faces the sun.
@@ -84,7 +90,7 @@ fn known_pixels_are_hit_missed_and_shadowed_as_the_geometry_dictates() {
         // A smooth sphere has no pockets: its centre faces the sun (n·l > 0), so any shadow there
         // would be self-intersection ("acne").
         assert_eq!(
-            kind_at(&img, sphere0),
+            kind_at(img, sphere0),
             PixelKind::Sphere {
                 index: 0,
                 shadowed: false
@@ -92,17 +98,17 @@ fn known_pixels_are_hit_missed_and_shadowed_as_the_geometry_dictates() {
             "{what}: sphere 0 centre"
         );
         assert_eq!(
-            kind_at(&img, shadow),
+            kind_at(img, shadow),
             PixelKind::Ground { shadowed: true },
             "{what}: sphere 0's shadow"
         );
         assert_eq!(
-            kind_at(&img, lit_ground),
+            kind_at(img, lit_ground),
             PixelKind::Ground { shadowed: false },
             "{what}: open ground"
         );
         assert!(
-            luminance(&img, shadow) + 100 < luminance(&img, lit_ground),
+            luminance(img, shadow) + 100 < luminance(img, lit_ground),
             "{what}: the shadow is darker"
         );
         // Every primary ray plus one shadow ray per hit.
@@ -249,6 +255,7 @@ fn degenerate_faces_are_counted_and_left_out_of_the_tier_estimate() {
     let (tier, lanes, why) = resolve_tier(&sc, TierArg::Auto, 16).unwrap();
     assert_eq!((tier, lanes), (TierArg::Watertight, 16), "{why}");
     assert_eq!(Tracer::new(tier, lanes), Ok(Tracer::Watertight(Width::X16)));
+    // Rendered at 8 lanes: the width the tier resolves to does not change the pixels.
     let img = render_with::<f32x8, Watertight>(&sc, 16, 10, &|_| {});
     assert_eq!(img.kinds.len(), 160);
 }
@@ -427,8 +434,7 @@ fn the_field_of_instances_is_seen_lit_and_the_same_at_two_tiers() {
     let s = default_scene();
     assert_eq!(s.field.len(), 1600);
     assert!(s.virtual_triangles() > 2_000_000_000);
-    let a = render_with::<f32x8, Watertight>(s, W, H, &|_| {});
-    let b = render_with::<f32x8, MollerTrumbore>(s, W, H, &|_| {});
+    let (a, b) = (watertight_x8(), standard_x8());
     assert_eq!(a.counts, (3, 3, 1603));
     let field: Vec<bool> = a
         .kinds
@@ -474,12 +480,10 @@ fn the_exported_scene_traces_to_the_rendered_digest() {
     let dir = std::env::temp_dir().join(format!("octoray-export-test-{}", std::process::id()));
     scene::export(s, TierArg::Standard, W, H, &dir).unwrap();
     let stored = scene::stored_digest::<f32x8, MollerTrumbore>(&dir).unwrap();
-    let rendered = render_with::<f32x8, MollerTrumbore>(s, W, H, &|_| {});
-    assert_eq!(stored, rendered.digest, "standard");
+    assert_eq!(stored, standard_x8().digest, "standard");
     scene::export(s, TierArg::Watertight, W, H, &dir).unwrap();
     let stored = scene::stored_digest::<f32x8, Watertight>(&dir).unwrap();
-    let rendered = render_with::<f32x8, Watertight>(s, W, H, &|_| {});
-    assert_eq!(stored, rendered.digest, "watertight");
+    assert_eq!(stored, watertight_x8().digest, "watertight");
     // A scene stored for the other layout is refused, not misread.
     let err = scene::stored_digest::<f32x8, MollerTrumbore>(&dir).unwrap_err();
     assert!(err.starts_with("scene.bin"), "{err}");
