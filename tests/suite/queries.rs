@@ -117,7 +117,7 @@ impl With for octoray::shading::Surface {}
 #[test]
 fn surface_data_faces_the_ray_and_spawns_without_rehits() {
     let (rays, tris) = scene(3);
-    let mut checked = 0;
+    let (mut checked, mut fronts) = (0, 0);
     for r in &rays {
         for t in &tris {
             let packed = PackedTriangle::new(t[0], t[1], t[2]);
@@ -126,8 +126,18 @@ fn surface_data_faces_the_ray_and_spawns_without_rehits() {
                 .map(|h| packed.surface(r, &h).with(h));
             let watertight = octoray::intersect::<f32, Watertight>(r, &verts)
                 .map(|h| verts.surface(r, &h).with(h));
+            // The front: the side `(v1 − v0) × (v2 − v0)` points to, in f64 (exact signs).
+            let w = |v: Vec3| v.as_dvec3();
+            let n = (w(t[1]) - w(t[0])).cross(w(t[2]) - w(t[0]));
+            let front = n.dot(w(r.dir)) <= 0.0;
+            let culled = octoray::intersect::<f32, MollerTrumboreCulled>(r, &packed);
             for (s, hit) in standard.into_iter().chain(watertight) {
                 assert!(s.normal.dot(r.dir) <= 0.0 && (s.normal.length() - 1.0).abs() < 1e-5);
+                assert_eq!(s.front_face, front, "{r:?} {t:?}");
+                if standard.is_some() {
+                    assert_eq!(culled.is_some(), s.front_face, "the culled tier keeps fronts");
+                }
+                fronts += usize::from(s.front_face);
                 assert!((s.point - r.at(hit.t)).length() < 1e-4);
                 for (origin, dir) in [(s.spawn_front(), s.normal), (s.spawn_back(), -s.normal)] {
                     let spawn = Ray::new(origin, dir);
@@ -142,6 +152,7 @@ fn surface_data_faces_the_ray_and_spawns_without_rehits() {
         }
     }
     assert!(checked > 100, "{checked}");
+    assert!(fronts > 20 && checked - fronts > 20, "{fronts} of {checked}");
 }
 
 /// Sphere hits answer the same surface call as triangles: a unit normal facing the ray, the point
@@ -172,6 +183,7 @@ fn sphere_surface_data_faces_the_ray_and_spawns_without_rehits() {
             };
             for s in [sphere.surface(&ray, &hit), packed.surface(&ray, &hit)] {
                 assert!(s.normal.dot(ray.dir) <= 0.0, "{ray:?} {s:?}");
+                assert!(s.front_face, "a ray from outside meets the outside: {s:?}");
                 assert!((s.normal.length() - 1.0).abs() < 1e-5, "{s:?}");
                 assert!(
                     ((s.point - c).length() - radius).abs() <= 1e-5 * radius,
@@ -183,6 +195,7 @@ fn sphere_surface_data_faces_the_ray_and_spawns_without_rehits() {
                 let inward = Ray::new(s.spawn_back(), -s.normal);
                 let far = octoray::intersect::<f32, StableSphere>(&inward, &packed)
                     .expect("an inward ray meets the far side");
+                assert!(!sphere.surface(&inward, &far).front_face, "from inside: the back");
                 assert!((far.t * s.normal.length() - 2.0 * radius).abs() <= 1e-3 * radius);
                 assert_eq!(s.spawn(s.normal), s.spawn_front());
                 assert_eq!(s.spawn(-s.normal), s.spawn_back());

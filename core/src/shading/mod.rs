@@ -29,27 +29,33 @@ pub struct Surface {
     /// length for every finite primitive a kernel reports a hit on, whatever its scale; zero only
     /// for a degenerate or non-finite one.
     pub normal: Vec3,
+    /// Whether the ray met the primitive's front: the side its own normal points to (a
+    /// triangle's `(v1 − v0) × (v2 − v0)`, counter-clockwise seen from the front; a sphere's
+    /// outside). `false` when [`Surface::normal`] had to be turned to face the ray: a ray
+    /// leaving a closed mesh or a sphere, which a refracting material reads to pick its index.
+    /// A ray in the plane of the surface (`n·d = 0`) counts as meeting the front.
+    pub front_face: bool,
 }
 
 impl Surface {
-    /// Surface data from a hit point, its error bound and a geometric normal (any length, any
-    /// orientation, any finite magnitude): the normal is normalised ([`unit_vector`]) and turned to face
-    /// `ray`.
+    /// Surface data from a hit point, its error bound and the primitive's geometric normal (any
+    /// length, any finite magnitude, pointing to its front): the normal is normalised
+    /// ([`unit_vector`]) and turned to face `ray`, and [`Surface::front_face`] says whether it
+    /// was already facing it.
     pub fn new(ray: &Ray, point: Vec3, error: Vec3, normal: Vec3) -> Self {
         Self::facing(ray, point, error, unit_vector(wide::of(normal)))
     }
 
     /// [`Surface::new`] with the normal already of unit length (or zero).
     fn facing(ray: &Ray, point: Vec3, error: Vec3, unit_normal: Vec3) -> Self {
-        let mut n = unit_normal;
         // In f64: n·d of a huge direction could overflow f32.
-        if wide::dot(wide::of(n), wide::of(ray.dir)) > 0.0 {
-            n = -n;
-        }
+        let back_face = wide::dot(wide::of(unit_normal), wide::of(ray.dir)) > 0.0;
+        let front_face = !back_face;
         Self {
             point,
             error,
-            normal: n,
+            normal: if front_face { unit_normal } else { -unit_normal },
+            front_face,
         }
     }
 
