@@ -14,5 +14,10 @@ for end in lowest highest; do
   version=$(cargo tree --quiet -e normal -i glam --depth 0 | awk '{print $2}')
   echo "== glam $version ($end end of the range)"
   cargo test --quiet
+  # Depending on octoray leaves the application's glam on its own (std) math backend.
+  if cargo tree --quiet -e features -i glam | grep -q 'glam feature "libm"'; then
+    echo "error: octoray turned on glam's libm feature for the whole program" >&2
+    exit 1
+  fi
 done
 rm -f Cargo.lock
