@@ -44,7 +44,7 @@ pub use octoray_packet::{f32x16, f32x4, f32x8, f64x4, f64x8};
 /// Threads for the BVH build (features `rayon` and `alloc`).
 #[cfg(all(feature = "rayon", feature = "alloc"))]
 pub mod parallel {
-    /// rayon's `join` as a [`crate::bvh::Join`]: [`crate::bvh::Bvh8::try_build_with`] then
+    /// rayon's `join` as a [`crate::bvh::Join`]: [`crate::bvh::Bvh8::try_build_on`] then
     /// runs the binary SAH build on rayon's thread pool. The tree is the same bit for bit as
     /// the single-threaded build's.
     #[derive(Clone, Copy, Debug, Default)]

@@ -74,7 +74,7 @@ fn scene(c: &mut Criterion, s: &SceneSet) {
         b.iter(|| {
             flip = !flip;
             let prims = if flip { &moved } else { &verts };
-            bvh.refit_with(black_box(prims), &octoray::parallel::Rayon)
+            bvh.refit_on(black_box(prims), &octoray::parallel::Rayon)
                 .is_ok()
         })
     });

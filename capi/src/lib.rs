@@ -625,8 +625,8 @@ pub unsafe extern "C" fn octoray_scene_commit(scene: *mut OctorayScene) -> Octor
         // SAFETY: the function's contract.
         let s = unsafe { scene_mut(scene, CALL) }?;
         let done = match &mut s.body {
-            Body::Packed(sc) => sc.commit_with(&octoray::bvh::Sequential),
-            Body::Vertex(sc) => sc.commit_with(&octoray::bvh::Sequential),
+            Body::Packed(sc) => sc.commit_on(&octoray::bvh::Sequential),
+            Body::Vertex(sc) => sc.commit_on(&octoray::bvh::Sequential),
             Body::Loaded(_) => return Err(read_only(CALL)),
         };
         done.map_err(|e| fail(OctorayStatus::BuildFailed, format!("{CALL}: {e}")))

@@ -503,7 +503,7 @@ impl<T: Primitive + Sync> Traced<T> {
             }
         }
         world
-            .commit_with(&octoray::parallel::Rayon)
+            .commit_on(&octoray::parallel::Rayon)
             .expect("the scene's indices fit u32");
         Self {
             world,

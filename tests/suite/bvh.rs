@@ -442,7 +442,7 @@ fn empty_and_unhittable_scenes_miss() {
     assert_eq!(closest_ray::<f32x8, MollerTrumbore>(b.as_ref(), &ray), None);
 }
 
-/// The threaded build (`try_build_with` and rayon's join, the facade's `rayon` feature) gives
+/// The threaded build (`try_build_on` and rayon's join, the facade's `rayon` feature) gives
 /// the same tree, bit for bit, as the single-threaded one: on scenes large enough to split
 /// across threads many times (a 320 000-triangle icosphere, a 60 000-triangle soup with
 /// duplicates and zero-area triangles, all centres equal), on a pool of 1, 2 and 4 threads.
@@ -885,7 +885,7 @@ fn threaded_refit_equals_single_threaded_refit_and_brute_force() {
             .build()
             .expect("pool");
         let mut par = Bvh8::build(&verts);
-        pool.install(|| par.refit_with(&verts2, &Rayon))
+        pool.install(|| par.refit_on(&verts2, &Rayon))
             .expect("same slice");
         assert_eq!(
             bytemuck::cast_slice::<Bvh8Node, u8>(one.nodes()),

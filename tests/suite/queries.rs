@@ -135,7 +135,11 @@ fn surface_data_faces_the_ray_and_spawns_without_rehits() {
                 assert!(s.normal.dot(r.dir) <= 0.0 && (s.normal.length() - 1.0).abs() < 1e-5);
                 assert_eq!(s.front_face, front, "{r:?} {t:?}");
                 if standard.is_some() {
-                    assert_eq!(culled.is_some(), s.front_face, "the culled tier keeps fronts");
+                    assert_eq!(
+                        culled.is_some(),
+                        s.front_face,
+                        "the culled tier keeps fronts"
+                    );
                 }
                 fronts += usize::from(s.front_face);
                 assert!((s.point - r.at(hit.t)).length() < 1e-4);
@@ -152,7 +156,10 @@ fn surface_data_faces_the_ray_and_spawns_without_rehits() {
         }
     }
     assert!(checked > 100, "{checked}");
-    assert!(fronts > 20 && checked - fronts > 20, "{fronts} of {checked}");
+    assert!(
+        fronts > 20 && checked - fronts > 20,
+        "{fronts} of {checked}"
+    );
 }
 
 /// Sphere hits answer the same surface call as triangles: a unit normal facing the ray, the point
@@ -195,7 +202,10 @@ fn sphere_surface_data_faces_the_ray_and_spawns_without_rehits() {
                 let inward = Ray::new(s.spawn_back(), -s.normal);
                 let far = octoray::intersect::<f32, StableSphere>(&inward, &packed)
                     .expect("an inward ray meets the far side");
-                assert!(!sphere.surface(&inward, &far).front_face, "from inside: the back");
+                assert!(
+                    !sphere.surface(&inward, &far).front_face,
+                    "from inside: the back"
+                );
                 assert!((far.t * s.normal.length() - 2.0 * radius).abs() <= 1e-3 * radius);
                 assert_eq!(s.spawn(s.normal), s.spawn_front());
                 assert_eq!(s.spawn(-s.normal), s.spawn_back());

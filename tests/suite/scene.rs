@@ -974,7 +974,7 @@ fn malformed_scenes_name_what_is_wrong() {
     }
     deep.place_group(None, below, Transform::IDENTITY, !0);
     assert_eq!(
-        deep.commit_with(&octoray::bvh::Sequential),
+        deep.commit_on(&octoray::bvh::Sequential),
         Err(octoray::bvh::BvhError::TooManyLevels)
     );
 }

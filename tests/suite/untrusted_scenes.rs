@@ -231,7 +231,7 @@ fn a_group_placed_nowhere_is_not_traced() {
     }
 }
 
-/// Too many instance levels: `commit` and `commit_with` answer the same error, which says so
+/// Too many instance levels: `commit` and `commit_on` answer the same error, which says so
 /// (not a tree depth), and the scene stays uncommitted.
 #[test]
 fn too_many_levels_is_one_error_from_both_commits() {
@@ -248,7 +248,7 @@ fn too_many_levels_is_one_error_from_both_commits() {
     let mut other = deep.clone();
     assert_eq!(deep.commit(), Err(BvhError::TooManyLevels));
     assert_eq!(
-        other.commit_with(&octoray::bvh::Sequential),
+        other.commit_on(&octoray::bvh::Sequential),
         Err(BvhError::TooManyLevels)
     );
     assert!(!deep.is_committed());

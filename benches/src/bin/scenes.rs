@@ -89,7 +89,7 @@ fn report(s: &SceneSet, runs: usize, md: &mut String) -> Rates {
         .collect();
     let (build_s, _) = best(runs, || Bvh8::build(&verts).stats().nodes as u64);
     let (build_par_s, _) = best(runs, || {
-        Bvh8::try_build_with(&verts, &octoray::parallel::Rayon)
+        Bvh8::try_build_on(&verts, &octoray::parallel::Rayon)
             .expect("build")
             .stats()
             .nodes as u64
@@ -741,7 +741,7 @@ fn scene_model_report(s: &SceneSet, runs: usize, md: &mut String) {
     });
     let (refit_par_s, _) = best(runs, || {
         refit
-            .refit_with(&moved, &octoray::parallel::Rayon)
+            .refit_on(&moved, &octoray::parallel::Rayon)
             .expect("same slice");
         1
     });

@@ -3,7 +3,7 @@
 //!
 //! Deterministic: plain f32 arithmetic in a fixed order, no hashing, ties broken by primitive
 //! index, so the same input gives the same tree bit for bit on every build; with threads
-//! ([`Bvh8::try_build_with`]) too, since each half of a split only touches its own items.
+//! ([`Bvh8::try_build_on`]) too, since each half of a split only touches its own items.
 
 use super::{Bvh8Node, Bvh8Ref, BvhError, MAX_DEPTH, MAX_PRIMS, PAD, WIDTH};
 use crate::prim::{Aabb, Primitive, BLOCK};
@@ -175,7 +175,7 @@ impl<P: Primitive> Bvh8<P> {
 
     /// Builds the tree, or says why not (too many primitives).
     pub fn try_build(prims: &[P]) -> Result<Self, BvhError> {
-        Self::try_build_with(prims, &Sequential)
+        Self::try_build_on(prims, &Sequential)
     }
 
     /// [`Bvh8::try_build`] with the two halves of every large split handed to `join`: with a
@@ -184,11 +184,20 @@ impl<P: Primitive> Bvh8<P> {
     /// whatever the join and the number of threads (each half only reads and reorders its own
     /// items; the halves are joined in order). The collapse into 8-wide nodes stays on the
     /// calling thread.
-    pub fn try_build_with<J: Join>(prims: &[P], join: &J) -> Result<Self, BvhError> {
+    pub fn try_build_on<J: Join>(prims: &[P], join: &J) -> Result<Self, BvhError> {
         Self::try_build_options(prims, BuildOptions::BINNED, join)
     }
 
-    /// [`Bvh8::try_build_with`] as `options` say: [`BuildOptions::SPATIAL`] for a tree with
+    /// Former name of [`Bvh8::try_build_on`].
+    #[deprecated(
+        since = "0.1.0",
+        note = "renamed `try_build_on`: `_with` names the hit-filter forms"
+    )]
+    pub fn try_build_with<J: Join>(prims: &[P], join: &J) -> Result<Self, BvhError> {
+        Self::try_build_on(prims, join)
+    }
+
+    /// [`Bvh8::try_build_on`] as `options` say: [`BuildOptions::SPATIAL`] for a tree with
     /// spatial splits (slower to build, faster to trace where primitives are long or large
     /// against their neighbours). The same input, options and primitives give the same tree bit
     /// for bit, whatever the join.
@@ -399,7 +408,7 @@ impl<P: Primitive> Bvh8<P> {
     where
         P: Sync,
     {
-        self.refit_with(prims, &Sequential)
+        self.refit_on(prims, &Sequential)
     }
 
     /// [`Bvh8::refit`] with the blocks rewritten on `join`'s threads (the facade's
@@ -407,7 +416,7 @@ impl<P: Primitive> Bvh8<P> {
     ///
     /// # Errors
     /// As [`Bvh8::refit`].
-    pub fn refit_with<J: Join>(&mut self, prims: &[P], join: &J) -> Result<(), BvhError>
+    pub fn refit_on<J: Join>(&mut self, prims: &[P], join: &J) -> Result<(), BvhError>
     where
         P: Sync,
     {
@@ -425,6 +434,18 @@ impl<P: Primitive> Bvh8<P> {
             self.stats.skipped > 0,
             join,
         )
+    }
+
+    /// Former name of [`Bvh8::refit_on`].
+    #[deprecated(
+        since = "0.1.0",
+        note = "renamed `refit_on`: `_with` names the hit-filter forms"
+    )]
+    pub fn refit_with<J: Join>(&mut self, prims: &[P], join: &J) -> Result<(), BvhError>
+    where
+        P: Sync,
+    {
+        self.refit_on(prims, join)
     }
 
     /// The owned slices: nodes, blocks, ids (for a scene's storage).

@@ -151,7 +151,7 @@ macro_rules! kernel_without_prepare {
 }
 
 kernel_without_prepare!(#[cfg(feature = "triangle")] [L: Lanes, const CULL: bool] MollerTrumbore<CULL>, PackedTriangle, L,
-    crate::kernels::triangle::moller_trumbore::intersect_with::<L, CULL>);
+    crate::kernels::triangle::moller_trumbore::intersect_lanes::<L, CULL>);
 #[cfg(feature = "sphere")]
 impl<L: Lanes> Kernel<L> for StableSphere {
     type Prim = PackedSphere;

@@ -72,7 +72,7 @@ enum Extent {
     Unbounded,
 }
 
-/// One level of instances, built ([`Scene::commit_with`]).
+/// One level of instances, built ([`Scene::commit_on`]).
 struct BuiltLevel {
     instances: Vec<Instance>,
     tree: Bvh8<InstanceBox>,
@@ -300,7 +300,7 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
     /// made after it: a group holds only groups made before it), with `transform` (the
     /// parent's space → the group's) and `mask`; returns the instance's index in the world or
     /// its position in `parent`. A path from the world down to a geometry holds at most
-    /// [`MAX_INSTANCE_LEVELS`] instances ([`Scene::commit_with`] checks).
+    /// [`MAX_INSTANCE_LEVELS`] instances ([`Scene::commit_on`] checks).
     ///
     /// # Panics
     /// When `group` or `parent` is not a group of the scene, or `parent` is not made after
@@ -588,13 +588,27 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
     /// # Panics
     /// As [`Scene::refit_triangles`].
     #[track_caller]
-    pub fn refit_triangles_with<J: Join>(
+    pub fn refit_triangles_on<J: Join>(
         &mut self,
         geom: u32,
         prims: &[T],
         join: &J,
     ) -> Result<(), BvhError> {
         self.refit(geom, Prims::Triangles(prims.to_vec()), join)
+    }
+
+    /// Former name of [`Scene::refit_triangles_on`].
+    #[deprecated(
+        since = "0.1.0",
+        note = "renamed `refit_triangles_on`: `_with` names the hit-filter forms"
+    )]
+    pub fn refit_triangles_with<J: Join>(
+        &mut self,
+        geom: u32,
+        prims: &[T],
+        join: &J,
+    ) -> Result<(), BvhError> {
+        self.refit_triangles_on(geom, prims, join)
     }
 
     /// Refits sphere geometry `geom`: as [`Scene::refit_triangles`].
@@ -615,7 +629,7 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
     /// [`BvhError::TooManyLevels`] when a path from the world would hold more than
     /// [`MAX_INSTANCE_LEVELS`] instances; [`BvhError::TooManyPrims`] when a tree or the scene's
     /// slices would outgrow `u32` indices. The scene is then not committed.
-    pub fn commit_with<J: Join>(&mut self, join: &J) -> Result<(), BvhError> {
+    pub fn commit_on<J: Join>(&mut self, join: &J) -> Result<(), BvhError> {
         for t in self.trees.len()..self.sets.len() {
             let kind = self.geoms[self.sets[t][0] as usize].kind;
             if kind == TRIANGLES {
@@ -696,6 +710,15 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
         Ok(())
     }
 
+    /// Former name of [`Scene::commit_on`].
+    #[deprecated(
+        since = "0.1.0",
+        note = "renamed `commit_on`: `_with` names the hit-filter forms"
+    )]
+    pub fn commit_with<J: Join>(&mut self, join: &J) -> Result<(), BvhError> {
+        self.commit_on(join)
+    }
+
     /// The instances `placements` of one level (trees `0..geo` are the sets', then the
     /// groups'), the tree over their boxes, and what the level's record says of them.
     fn build_level<J: Join>(
@@ -763,7 +786,7 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
             out.levels = out.levels.max(child.levels);
             out.mask |= p.mask;
         }
-        out.tree = Bvh8::try_build_with(&boxes, join)?;
+        out.tree = Bvh8::try_build_on(&boxes, join)?;
         out.slack = super::origin_slack(&out.instances, records);
         Ok(out)
     }
@@ -775,9 +798,9 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
     /// nowhere.
     ///
     /// # Errors
-    /// As [`Scene::commit_with`].
+    /// As [`Scene::commit_on`].
     pub fn commit(&mut self) -> Result<(), BvhError> {
-        self.commit_with(&Sequential)
+        self.commit_on(&Sequential)
     }
 
     /// Whether the scene can be traced: nothing changed since the last [`Scene::commit`].

@@ -54,7 +54,11 @@ impl Surface {
         Self {
             point,
             error,
-            normal: if front_face { unit_normal } else { -unit_normal },
+            normal: if front_face {
+                unit_normal
+            } else {
+                -unit_normal
+            },
             front_face,
         }
     }

@@ -18,7 +18,7 @@
 //!   (`22u·Rx·Ry`, derived in [`crate::kernels::triangle::watertight`]); a lane is decided there
 //!   when all three clear it with one sign (inside) or two clear it with opposite signs (miss),
 //!   and its range when the division-free certificates decide both bounds. Every other lane, and
-//!   every lane whose products leave `[2⁻¹⁰⁰, 2¹⁰⁰]`, goes to [`resolve`]: f64 with certified
+//!   every lane whose products leave `[2⁻¹⁰⁰, 2¹⁰⁰]`, goes to `resolve`: f64 with certified
 //!   bounds, then, for the exact ties f64 cannot decide (a ray exactly through a vertex or along
 //!   an edge's line), [`ExactSum`]. Measured share of tests decided past the filter: random rays
 //!   0.05 %, rays aimed at f32 points of vertices and edges 100 %, grazing 1e-3 rad 2.6 %, 1e-5
@@ -121,7 +121,7 @@ fn add_det(acc: &mut ExactSum, rows: [(P, P); 3], negate: bool) -> bool {
 
 /// The exact plane quantities of one ray and one triangle (see the module docs).
 #[derive(Clone, Copy, Debug)]
-pub struct ExactPlane {
+pub(crate) struct ExactPlane {
     /// `wᵢ = det[d, v_j − o, v_k − o]` for the edges opposite `v0`, `v1`, `v2`.
     pub w: [ExactSum; 3],
     /// `N = det[v0 − o, v1 − o, v2 − o]`.
@@ -228,7 +228,7 @@ impl ExactPlane {
 /// What [`resolve`] answers for a hit: `t` and the barycentrics of `v1`, `v2`, to f64 (relative
 /// error below 2⁻³² for `t`, so it rounds to f32 within one ulp of the exact value).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Resolved {
+pub(crate) struct Resolved {
     /// Ray parameter.
     pub t: f64,
     /// Barycentric weight of `v1`.
@@ -240,7 +240,7 @@ pub struct Resolved {
 /// One lane's question for [`resolve`]: the ray, the triangle, the range, and what is still to
 /// be decided.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LaneQuery {
+pub(crate) struct LaneQuery {
     /// Ray origin.
     pub o: P,
     /// Ray direction.
@@ -267,7 +267,7 @@ pub struct LaneQuery {
 /// `t ≥ t_min`; with `check_max`, that `t ≤ t_max`. `None` is a miss (also for a NaN bound or a
 /// non-finite input). First in f64 with certified error bounds (a few dozen flops; decides all but
 /// exact ties), then, where f64 cannot decide, with [`ExactPlane`].
-pub fn resolve(q: &LaneQuery) -> Option<Resolved> {
+pub(crate) fn resolve(q: &LaneQuery) -> Option<Resolved> {
     if q.t_min.is_nan() || q.t_max.is_nan() {
         return None;
     }

@@ -49,13 +49,13 @@ const DET_NOISE: f32 = 8.0 / 16_777_216.0;
 /// Tests every lane of `ray` against one triangle, two-sided.
 #[inline(always)]
 pub fn intersect<L: Lanes>(ray: &RayLanes<L>, tri: &PackedTriangle) -> LanesHit<L> {
-    intersect_with::<L, false>(ray, &tri.splat())
+    intersect_lanes::<L, false>(ray, &tri.splat())
 }
 
 /// Tests lane `i` of `ray` against lane `i` of `tri`; with `CULL`, back faces (`det ≤ 0`: the
 /// normal `e1 × e2` points along the ray) are misses.
 #[inline(always)]
-pub fn intersect_with<L: Lanes, const CULL: bool>(
+pub fn intersect_lanes<L: Lanes, const CULL: bool>(
     ray: &RayLanes<L>,
     tri: &EdgeLanes<L>,
 ) -> LanesHit<L> {
@@ -137,4 +137,17 @@ pub fn intersect_with<L: Lanes, const CULL: bool>(
         v: v_num,
         scale: det,
     }
+}
+
+/// Former name of [`intersect_lanes`].
+#[deprecated(
+    since = "0.1.0",
+    note = "renamed `intersect_lanes`: it tests one triangle per lane"
+)]
+#[inline(always)]
+pub fn intersect_with<L: Lanes, const CULL: bool>(
+    ray: &RayLanes<L>,
+    tri: &EdgeLanes<L>,
+) -> LanesHit<L> {
+    intersect_lanes::<L, CULL>(ray, tri)
 }

@@ -14,7 +14,7 @@
 //!   report it; both below). The `t_min` side is certified without a division (the sign of `N − t_min·D`
 //!   against its error bound, or every vertex's depth against `t_min`, which keeps small
 //!   distant triangles) and, on the lanes neither certificate decides, decided with
-//!   exact arithmetic ([`crate::kernels::triangle::exact::ExactPlane`], lane by lane, rare): a
+//!   exact arithmetic (the exact tier's predicates, [`crate::kernels::triangle::exact`], lane by lane, rare): a
 //!   hit just in front of `t_min` is never lost, one just behind is never reported, for every
 //!   finite input (oracle-tested; the thin-triangle reproducer is in `tests/suite/hostile.rs`).
 //!   The `t_max` side compares the reported `t`, as the standard tier does and as closest-hit
@@ -204,18 +204,32 @@ pub fn intersect_sheared<L: Lanes>(
     sh: &ShearedRay<L>,
     tri: &VertexTriangle,
 ) -> LanesHit<L> {
-    intersect_sheared_with::<L, false>(ray, sh, &tri.splat())
+    intersect_sheared_lanes::<L, false>(ray, sh, &tri.splat())
 }
 
 /// Tests lane `i` of `ray`, sheared by `sh`, against lane `i` of `tri`; with `CULL`, back faces
 /// (the normal `(v1 − v0) × (v2 − v0)` points along the ray) are misses.
+#[inline(always)]
+pub fn intersect_sheared_lanes<L: Lanes, const CULL: bool>(
+    ray: &RayLanes<L>,
+    sh: &ShearedRay<L>,
+    tri: &VertexLanes<L>,
+) -> LanesHit<L> {
+    sheared_body::<L, CULL, false>(ray, sh, tri)
+}
+
+/// Former name of [`intersect_sheared_lanes`].
+#[deprecated(
+    since = "0.1.0",
+    note = "renamed `intersect_sheared_lanes`: it tests one triangle per lane"
+)]
 #[inline(always)]
 pub fn intersect_sheared_with<L: Lanes, const CULL: bool>(
     ray: &RayLanes<L>,
     sh: &ShearedRay<L>,
     tri: &VertexLanes<L>,
 ) -> LanesHit<L> {
-    sheared_body::<L, CULL, false>(ray, sh, tri)
+    intersect_sheared_lanes::<L, CULL>(ray, sh, tri)
 }
 
 #[inline(always)]
