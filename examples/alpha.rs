@@ -6,7 +6,7 @@ use octoray::glam::Vec3;
 use octoray::hit::Candidate;
 use octoray::kernels::Watertight;
 use octoray::prim::{Ray, VertexTriangle};
-use octoray::scene::{closest_ray, closest_ray_with, occluded_ray_with};
+use octoray::tree::{closest_ray, closest_ray_with, occluded_ray_with};
 
 /// The leaves' alpha texture: a 4×4 grid over the barycentrics, opaque on every third
 /// square, shifted by a square from one leaf to the next (a leaf is two triangles); the wall

@@ -4,7 +4,7 @@ use octoray::f32x8;
 use octoray::glam::Vec3;
 use octoray::kernels::Watertight;
 use octoray::prim::{Ray, RayLanes, VertexTriangle};
-use octoray::scene::{closest_packet, closest_ray};
+use octoray::tree::{closest_packet, closest_ray};
 
 fn main() {
     // Two triangles forming the unit square in z = 0.

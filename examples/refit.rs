@@ -5,7 +5,8 @@ use octoray::f32x8;
 use octoray::glam::{Affine3A, Vec3};
 use octoray::kernels::{StableSphere, Watertight};
 use octoray::prim::{PackedSphere, Ray, VertexTriangle};
-use octoray::scene::{closest_ray, Scene, Trace, Transform};
+use octoray::scene::{Scene, Trace, Transform};
+use octoray::tree::closest_ray;
 use std::time::Instant;
 
 /// A 200×200 sheet in the xz plane at frame `f`: heights move with a travelling wave.

@@ -8,7 +8,7 @@
 //! | a tier (accuracy against speed) and its contract | [`kernels`] ([`kernels::MollerTrumbore`], [`kernels::Watertight`], [`kernels::Exact`], [`kernels::StableSphere`]); the f64 tier is any of them at [`f64x4`]/[`f64x8`] |
 //! | what a test answers | [`hit`] ([`hit::Hit`]) |
 //! | a tree over one primitive slice: build, refit, store, validate | [`bvh`] ([`bvh::Bvh8`], [`bvh::Bvh8Ref`]) |
-//! | rays against one tree | [`scene`] ([`scene::closest_ray`], [`scene::closest_packet`], [`scene::closest`], …, and `_with` forms taking a [`hit::HitFilter`]) |
+//! | rays against one tree | [`tree`] ([`tree::closest_ray`], [`tree::closest_packet`], [`tree::closest`], …, and `_with` forms taking a [`hit::HitFilter`]) |
 //! | a renderer's scene: several meshes and sphere sets, instances, masks, IDs in the hit | [`scene::Scene`], [`scene::SceneRef`], [`scene::Transform`]; rays through it with [`scene::Trace`] |
 //! | rays against a slice of primitives | [`closest`], [`closest_t`], [`occluded`] (slices), [`query`] (one packet), [`intersect`] (one ray) |
 //! | lane types | [`f32x4`], [`f32x8`], [`f32x16`], [`f64x4`], [`f64x8`]; the trait [`lanes::Lanes`] |
@@ -18,7 +18,8 @@
 //! | the seed sheet's method, every intermediate | [`textbook`] |
 //!
 //! `octoray-core` (`no_std`, no `wide`) holds everything but the SIMD work; `octoray-packet`
-//! (`no_std`, on `wide`) holds the slice calls, the scene walks and the lane types. This crate
+//! (`no_std`, on `wide`) holds the slice calls, the walks of a tree and of a scene, and the lane
+//! types. This crate
 //! re-exports both, each item once, and adds [`parallel`] (feature `rayon`).
 #![no_std]
 #![forbid(unsafe_code)]
@@ -37,7 +38,7 @@ pub use octoray_core::shading;
 #[doc(inline)]
 pub use octoray_core::{bvh, glam, hit, ingest, kernels, lanes, prim, query, recommend, textbook};
 #[doc(inline)]
-pub use octoray_packet::{closest, closest_t, occluded, scene};
+pub use octoray_packet::{closest, closest_t, occluded, scene, tree};
 #[doc(inline)]
 pub use octoray_packet::{f32x16, f32x4, f32x8, f64x4, f64x8};
 

@@ -13,7 +13,7 @@ use octoray::bvh::{Bvh8, Bvh8Ref, MAX_DEPTH};
 use octoray::glam::Vec3;
 use octoray::kernels::Watertight;
 use octoray::prim::{Ray, VertexTriangle};
-use octoray::scene::closest_ray_with;
+use octoray::tree::closest_ray_with;
 use octoray_benches::instancing::{alpha, restart_closest};
 use octoray_benches::scenes::{
     jittered_sphere, packets_closest, singles_any, singles_closest, sponza, SceneSet,

@@ -9,7 +9,8 @@ use octoray::hit::{Candidate, Hit};
 use octoray::kernels::{StableSphere, Watertight};
 use octoray::lanes::LaneMask;
 use octoray::prim::{PackedSphere, Ray, RayLanes, VertexTriangle};
-use octoray::scene::{closest_ray, Scene, SceneRef, Trace, Transform};
+use octoray::scene::{Scene, SceneRef, Trace, Transform};
+use octoray::tree::closest_ray;
 use octoray_testkit::camera::Pinhole;
 use wide::f32x8;
 

@@ -9,7 +9,7 @@ use octoray::bvh::{Bvh8, Bvh8Ref};
 use octoray::kernels::{Kernel, Watertight};
 use octoray::lanes::{LaneMask, Lanes};
 use octoray::prim::{Ray, RayLanes, VertexTriangle};
-use octoray::scene::{closest, closest_packet, closest_ray, occluded_packet, occluded_ray};
+use octoray::tree::{closest, closest_packet, closest_ray, occluded_packet, occluded_ray};
 use octoray_testkit::camera::Pinhole;
 use std::path::PathBuf;
 use std::process::Command;

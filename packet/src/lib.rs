@@ -1,5 +1,5 @@
 //! `octoray-packet`: the SIMD layer a renderer calls — slices of rays against slices of
-//! primitives and against scenes, at every tier and lane width, on `wide`.
+//! primitives, against one tree and against scenes, at every tier and lane width, on `wide`.
 //!
 //! `octoray-core` holds the vocabulary (rays, primitives, hits, the tiers' kernels, the BVH as
 //! data) and every kernel's one generic body; this crate runs them on SIMD lanes:
@@ -12,9 +12,11 @@
 //!   - slices of rays against slices of primitives (brute force): [`closest`], [`closest_t`],
 //!     [`occluded`];
 //!   - one packet against a slice of primitives: `octoray_core::query`;
-//!   - against a scene (`Bvh8`/`Bvh8Ref`): [`scene::closest`], [`scene::occluded`] (slices of
-//!     rays, packets or single rays as fits), `scene::*_packet` (one packet) and
-//!     `scene::*_ray` (one ray).
+//!   - against one tree (`Bvh8`/`Bvh8Ref`): [`tree::closest`], [`tree::occluded`] (slices of
+//!     rays, packets or single rays as fits), `tree::*_packet` (one packet) and `tree::*_ray`
+//!     (one ray);
+//!   - against a scene of geometries and instances: the same names as methods of
+//!     [`scene::Trace`].
 //!
 //! Every lane's answer is bit-identical to the scalar twin (`octoray_core::query` at `L = f32`),
 //! on every build, for every tier.
@@ -44,6 +46,7 @@
 
 pub mod scene;
 mod slices;
+pub mod tree;
 
 pub use slices::{closest, closest_t, occluded};
 pub use wide::{f32x16, f32x4, f32x8, f64x4, f64x8};

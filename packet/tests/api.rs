@@ -12,7 +12,7 @@ use octoray_core::kernels::{
 use octoray_core::lanes::Lanes;
 use octoray_core::prim::{PackedSphere, PackedTriangle, Ray, RayLanes, VertexTriangle};
 use octoray_core::query::ClosestHit;
-use octoray_packet::{closest, closest_t, occluded, scene};
+use octoray_packet::{closest, closest_t, occluded, tree};
 use octoray_packet::{f32x16, f32x4, f32x8, f64x4, f64x8};
 
 fn rays() -> Vec<Ray> {
@@ -123,11 +123,11 @@ fn scene_calls_equal_slice_calls() {
     let rays = rays();
     let (mut a, mut b) = (vec![None; rays.len()], vec![None; rays.len()]);
     closest::<f32x8, Watertight>(&rays, &verts, &mut a);
-    scene::closest::<f32x8, Watertight>(bvh.as_ref(), &rays, &mut b);
+    tree::closest::<f32x8, Watertight>(bvh.as_ref(), &rays, &mut b);
     assert_eq!(a, b);
     let (mut a, mut b) = (vec![false; rays.len()], vec![false; rays.len()]);
     occluded::<f32x16, Watertight>(&rays, &verts, &mut a);
-    scene::occluded::<f32x16, Watertight>(bvh.as_ref(), &rays, &mut b);
+    tree::occluded::<f32x16, Watertight>(bvh.as_ref(), &rays, &mut b);
     assert_eq!(a, b);
     assert!(a.iter().any(|&x| x));
 }

@@ -105,11 +105,14 @@ fn core_modules_import_only_from_layers_below() {
     assert!(checked > 50, "only {checked} imports seen");
 }
 
-/// `octoray-packet`'s two layers, ray slices against primitive slices (`slices.rs`) and the scene
-/// walks (`scene/`), are side by side on top of the core: neither imports the other, and the
-/// crate root only declares them.
+/// `octoray-packet`'s layers on top of the core: ray slices against primitive slices
+/// (`slices.rs`) beside the walks of one tree (`tree/`), and the scene's walks (`scene/`) on the
+/// tree's. Each imports only itself and the layers it builds on (`PACKET_LAYERS`); the crate
+/// root only declares them.
+const PACKET_LAYERS: &[(&str, &[&str])] = &[("slices", &[]), ("tree", &[]), ("scene", &["tree"])];
+
 #[test]
-fn packet_layers_are_side_by_side() {
+fn packet_layers_import_only_downwards() {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("packet/src");
     for f in rust_files(&src) {
         let rel = f.strip_prefix(&src).expect("under packet/src");
@@ -123,9 +126,20 @@ fn packet_layers_are_side_by_side() {
             .trim_end_matches(".rs")
             .to_string();
         let text = std::fs::read_to_string(&f).expect("read");
+        let below = PACKET_LAYERS
+            .iter()
+            .find(|(m, _)| *m == module)
+            .map(|(_, below)| *below);
+        assert!(
+            module == "lib" || below.is_some(),
+            "packet/src/{}: `{module}` is in no layer: add it to PACKET_LAYERS",
+            rel.display()
+        );
         for target in crate_refs(&text) {
             assert!(
-                module == "lib" || target == module,
+                module == "lib"
+                    || target == module
+                    || below.unwrap_or(&[]).contains(&target.as_str()),
                 "{}: `{module}` imports `crate::{target}`",
                 rel.display()
             );

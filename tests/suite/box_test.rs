@@ -9,7 +9,7 @@ use octoray::f32x8;
 use octoray::glam::Vec3;
 use octoray::lanes::{LaneMask, V3};
 use octoray::prim::{Ray, RayLanes};
-use octoray::scene::slab::{slab, BoxRay, Frustum};
+use octoray::tree::slab::{slab, BoxRay, Frustum};
 use proptest::prelude::*;
 use testkit::Rng;
 

@@ -22,7 +22,7 @@ use octoray::lanes::{LaneMask, Lanes, Scalar};
 use octoray::prim::{
     PackedSphere, PackedTriangle, Primitive, Ray, RayLanes, VertexTriangle, BLOCK,
 };
-use octoray::scene::{
+use octoray::tree::{
     closest, closest_packet, closest_packet_with, closest_ray, closest_ray_with, closest_t_packet,
     closest_with, occluded, occluded_packet, occluded_packet_with, occluded_ray, occluded_ray_with,
     occluded_with,

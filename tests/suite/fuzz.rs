@@ -28,8 +28,8 @@ use octoray::lanes::{LaneMask, Lanes, Scalar};
 use octoray::prim::{PackedSphere, PackedTriangle, Primitive, Ray, RayLanes, VertexTriangle};
 use octoray::query::{closest, closest_t, occluded};
 use octoray::recommend::{recommend, SceneSpec};
-use octoray::scene::{closest_packet, closest_ray as bvh_closest};
 use octoray::shading::offset::{offset_ray_origin, sphere_hit_point, triangle_hit_point};
+use octoray::tree::{closest_packet, closest_ray as bvh_closest};
 use octoray::{f32x16, f32x4, f32x8, ingest};
 use testkit::accuracy::TriCase;
 use testkit::{oracle, Rng};
@@ -639,7 +639,7 @@ static TREES: [std::sync::atomic::AtomicUsize; 3] =
 /// per ray and reports only indices below the caller's count, at finite `t` in range.
 fn run_tree(rng: &mut Rng) {
     use octoray::bvh::{Bvh8Ref, MAX_DEPTH};
-    use octoray::scene::{occluded_packet, occluded_ray};
+    use octoray::tree::{occluded_packet, occluded_ray};
     use std::sync::atomic::Ordering::Relaxed;
     use testkit::trees::{
         bushy_chain, chain, craft, shared_chain, take_leaf_tests, triangles, Counting, Slices,

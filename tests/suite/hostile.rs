@@ -316,7 +316,7 @@ fn a_nearer_hit_whose_rounded_t_overflows_is_not_cut_off_by_an_earlier_hit() {
         closest::<f32, Watertight>(&RayLanes::single(&ray), &tris).lane(0),
         closest::<f32x8, Watertight>(&RayLanes::load(&[ray]), &tris).lane(0),
         closest::<f32x8, Exact>(&RayLanes::load(&[ray]), &tris).lane(0),
-        octoray::scene::closest_ray::<f32x8, Watertight>(tree.as_ref(), &ray),
+        octoray::tree::closest_ray::<f32x8, Watertight>(tree.as_ref(), &ray),
     ] {
         let h = got.expect("both triangles are hit");
         assert_eq!((h.prim, h.t), (1, 1.5), "{h:?}");
@@ -474,8 +474,8 @@ fn a_watertight_t_0_tie_between_duplicates_goes_to_the_lower_index_through_the_b
     let p = RayLanes::<f64x4>::load(&[ray]);
     for got in [
         closest::<f64x4, Watertight>(&p, &tris).lane(0),
-        octoray::scene::closest_packet::<f64x4, Watertight>(tree.as_ref(), &p).lane(0),
-        octoray::scene::closest_ray::<f64x4, Watertight>(tree.as_ref(), &ray),
+        octoray::tree::closest_packet::<f64x4, Watertight>(tree.as_ref(), &p).lane(0),
+        octoray::tree::closest_ray::<f64x4, Watertight>(tree.as_ref(), &ray),
     ] {
         assert_eq!(got.map(|h| (h.t, h.prim)), Some((0.0, 0)));
     }
@@ -489,7 +489,7 @@ mod untrusted_trees {
     use octoray::glam::Vec3;
     use octoray::kernels::Watertight;
     use octoray::prim::{Primitive, Ray, RayLanes, VertexTriangle};
-    use octoray::scene::{closest_packet, closest_ray, occluded_ray};
+    use octoray::tree::{closest_packet, closest_ray, occluded_ray};
     use octoray_testkit::trees::{
         chain, shared_chain, take_leaf_tests, triangles, Counting, Slices,
     };
@@ -539,7 +539,7 @@ mod untrusted_trees {
     #[test]
     fn the_fullest_stack_a_tree_of_the_depth_limit_allows_is_walked_without_a_panic() {
         use octoray::lanes::LaneMask;
-        use octoray::scene::{closest_t_packet, occluded_packet};
+        use octoray::tree::{closest_t_packet, occluded_packet};
         use octoray::{f32x16, f32x4};
         use octoray_testkit::trees::bushy_chain;
         let t = bushy_chain(MAX_DEPTH);
@@ -690,12 +690,12 @@ fn a_batch_length_mismatch_points_at_the_callers_line() {
     }));
     let closest = std::panic::catch_unwind(|| {
         let mut out = [None; 1];
-        octoray::scene::closest::<f32x8, Watertight>(tree.as_ref(), &rays, &mut out)
+        octoray::tree::closest::<f32x8, Watertight>(tree.as_ref(), &rays, &mut out)
     });
     let closest_at = AT.lock().unwrap().take();
     let occluded = std::panic::catch_unwind(|| {
         let mut out = [false; 3];
-        octoray::scene::occluded::<f32x8, Watertight>(tree.as_ref(), &rays, &mut out)
+        octoray::tree::occluded::<f32x8, Watertight>(tree.as_ref(), &rays, &mut out)
     });
     let occluded_at = AT.lock().unwrap().take();
     std::panic::set_hook(hook);
@@ -744,7 +744,7 @@ fn the_exact_tier_misses_where_the_exact_t_is_just_beyond_f32_max() {
             #[cfg(feature = "alloc")]
             {
                 let tree = octoray::bvh::Bvh8::build(&[tri]);
-                let h = octoray::scene::closest_ray::<f32x8, Exact>(tree.as_ref(), &ray);
+                let h = octoray::tree::closest_ray::<f32x8, Exact>(tree.as_ref(), &ray);
                 assert_eq!(h.map(|h| h.t), want, "bvh, sign {sign}, origin {origin_z}");
             }
             // With t_min = MAX only the exact t = MAX is left.
@@ -802,7 +802,7 @@ fn a_hand_built_sphere_with_a_zero_or_subnormal_radius_sq_is_missed_by_brute_for
             closest::<f32x8, StableSphere>(&p, &[s]).lane(0),
             closest::<f32x8, NaiveSphere>(&p, &[s]).lane(0),
             octoray::intersect::<f64, StableSphere>(&ray, &s),
-            octoray::scene::closest_ray::<f32x8, StableSphere>(tree.as_ref(), &ray),
+            octoray::tree::closest_ray::<f32x8, StableSphere>(tree.as_ref(), &ray),
         ];
         assert_eq!(answers, [None; 5], "radius_sq {r2}");
     }
@@ -813,7 +813,7 @@ fn a_hand_built_sphere_with_a_zero_or_subnormal_radius_sq_is_missed_by_brute_for
     };
     let tree = octoray::bvh::Bvh8::build(&[s]);
     let brute = octoray::intersect_sphere(&ray, &s).map(|h| h.t);
-    let bvh = octoray::scene::closest_ray::<f32x8, StableSphere>(tree.as_ref(), &ray);
+    let bvh = octoray::tree::closest_ray::<f32x8, StableSphere>(tree.as_ref(), &ray);
     assert!(brute.is_some());
     assert_eq!(bvh.map(|h| h.t), brute);
 }
@@ -827,7 +827,7 @@ fn primitives_reaching_past_f32_range_stay_in_the_tree() {
     use octoray::bvh::Bvh8;
     use octoray::kernels::StableSphere;
     use octoray::prim::{PackedSphere, Primitive};
-    use octoray::scene::closest_ray;
+    use octoray::tree::closest_ray;
     let s = PackedSphere::new(Vec3::new(-f32::MAX, 230_397.5, 5_327_692.5), 7.0e6);
     assert!(s.bounds().is_some());
     let ray = Ray::with_range(

@@ -111,7 +111,7 @@ fn thin(rays_per_mesh: usize) -> (usize, usize, usize) {
     use octoray::bvh::Bvh8;
     use octoray::f32x8;
     use octoray::kernels::{Exact, Watertight};
-    use octoray::scene::occluded as bvh_occluded;
+    use octoray::tree::occluded as bvh_occluded;
     use testkit::mesh::{escapes, thin_crack_meshes};
     let (mut total, mut wt, mut std) = (0, 0, 0);
     for (name, mesh, rays) in thin_crack_meshes(rays_per_mesh) {

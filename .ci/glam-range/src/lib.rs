@@ -5,7 +5,7 @@ use octoray::bvh::Bvh8;
 use octoray::kernels::Watertight;
 use octoray::prim::{Ray, VertexTriangle};
 use octoray::shading::Shade;
-use octoray::{f32x8, scene::closest_ray};
+use octoray::{f32x8, tree::closest_ray};
 
 /// The hit point and normal of a ray down −z onto the unit square, through a BVH.
 pub fn trace(x: f32, y: f32) -> Option<(Vec3, Vec3)> {

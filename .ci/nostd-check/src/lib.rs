@@ -6,7 +6,7 @@ use octoray_core::bvh::{Bvh8Node, Bvh8Ref};
 use octoray_core::kernels::{MollerTrumbore, StableSphere, Watertight};
 use octoray_core::lanes::LaneMask;
 use octoray_core::prim::{PackedSphere, PackedTriangle, Ray, RayLanes, VertexTriangle, BLOCK};
-use octoray_packet::{f32x8, scene};
+use octoray_packet::{f32x8, scene, tree};
 
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo) -> ! {
@@ -41,8 +41,8 @@ pub extern "C" fn octoray_nostd_bvh_probe(
     };
     let ray = Ray::new(Vec3::new(x, 0.25, -1.0), Vec3::new(0.0, 0.0, 1.0));
     let packet = RayLanes::<f32x8>::load(&[ray; 3]);
-    let p = scene::closest_packet::<f32x8, Watertight>(bvh, &packet);
-    match scene::closest_ray::<f32x8, Watertight>(bvh, &ray) {
+    let p = tree::closest_packet::<f32x8, Watertight>(bvh, &packet);
+    match tree::closest_ray::<f32x8, Watertight>(bvh, &ray) {
         Some(h) => h.prim ^ (p.mask.bitmask() << 8),
         None => u32::MAX,
     }

@@ -13,7 +13,7 @@ use octoray::bvh::{BuildOptions, Bvh8, Bvh8Ref, Sequential};
 use octoray::kernels::{MollerTrumbore, Watertight};
 use octoray::lanes::LaneMask;
 use octoray::prim::{PackedTriangle, RayLanes, VertexTriangle};
-use octoray::scene::{closest_packet_with, closest_ray_with};
+use octoray::tree::{closest_packet_with, closest_ray_with};
 use octoray_benches::embree::EmbreeScene;
 use octoray_benches::instancing::{
     alpha, field, flatten, instanced, restart_closest, scene_of, scene_packets_closest,

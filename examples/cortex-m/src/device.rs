@@ -7,7 +7,7 @@ use cortex_m::peripheral::SYST;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::hio::{self, HostStream};
 use octoray::kernels::Kernel;
-use octoray::scene::closest_ray;
+use octoray::tree::closest_ray;
 
 use crate::job;
 use octoray::hit::Digest;

@@ -14,8 +14,8 @@ use octoray::prim::{
     PackedSphere, PackedTriangle, Primitive, Ray, RayLanes, Sphere, VertexTriangle, BLOCK,
 };
 use octoray::query;
-use octoray::scene::{closest_packet, closest_ray, occluded_ray};
 use octoray::textbook::{self, InsideTest, SphereOutcome, TriangleOutcome};
+use octoray::tree::{closest_packet, closest_ray, occluded_ray};
 
 /// The first word of a stored tree ("o8t1").
 pub const MAGIC: u32 = u32::from_le_bytes(*b"o8t1");

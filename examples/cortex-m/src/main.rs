@@ -13,7 +13,7 @@ use cortex_m_rt::entry;
 use octoray::kernels::{Exact, Kernel, MollerTrumbore, Watertight};
 use octoray::prim::{Ray, RayLanes, VertexTriangle};
 use octoray::query::closest;
-use octoray::scene::closest_ray;
+use octoray::tree::closest_ray;
 use octoray_cortex_m::device::{exit, out, packed_tree, vertex_tree, Clock};
 use octoray_cortex_m::job;
 

@@ -1,10 +1,10 @@
 //! The scene's walks: the top-level tree over instances, whose leaves carry the ray into each
 //! instance's object space and walk its geometry's tree ([`Instances`], a [`Leaf`]).
 
-use super::epilog::{bound, Best, PacketBest};
 use super::masks::{check_masks, RayMasks};
-use super::slab::BoxRay;
-use super::walk::{
+use crate::tree::epilog::{bound, Best, PacketBest};
+use crate::tree::slab::BoxRay;
+use crate::tree::walk::{
     closest_slice, occluded_slice, packet_result, packet_walk, run_packet, run_single,
     trace_single, Leaf, Members, UNPLACED,
 };

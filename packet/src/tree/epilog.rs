@@ -8,7 +8,7 @@ use octoray_core::lanes::{LaneMask, Lanes, Scalar};
 /// A hit of one ray (the best so far, or a candidate): barycentric numerators over `scale`,
 /// like the kernels', and where it lies (primitive, geometry, instance).
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Best<S> {
+pub(crate) struct Best<S> {
     pub t: S,
     pub u: S,
     pub v: S,
@@ -62,7 +62,7 @@ impl<S: Scalar> Best<S> {
 /// Does a hit at `t` on primitive `id` of instance `inst` replace `best`? Nearer `t`, or equal
 /// `t` and a lower (instance, primitive).
 #[inline(always)]
-pub(super) fn better<S: Scalar>(t: S, inst: u32, id: u32, best: &Option<Best<S>>) -> bool {
+pub(crate) fn better<S: Scalar>(t: S, inst: u32, id: u32, best: &Option<Best<S>>) -> bool {
     match best {
         None => true,
         Some(b) => t < b.t || (t == b.t && (inst, id) < (b.inst, b.id)),
@@ -72,7 +72,7 @@ pub(super) fn better<S: Scalar>(t: S, inst: u32, id: u32, best: &Option<Best<S>>
 /// The `t` bound of box tests and kernel calls: the ray's `t_max`, or once there is a hit, its
 /// `t` loosened so that a later hit at the same `t` is still seen (the tie rule decides).
 #[inline(always)]
-pub(super) fn bound<S: Scalar>(t_max: S, best: &Option<Best<S>>) -> S {
+pub(crate) fn bound<S: Scalar>(t_max: S, best: &Option<Best<S>>) -> S {
     match best {
         Some(b) => {
             let l = loosen(b.t);
@@ -88,12 +88,12 @@ pub(super) fn bound<S: Scalar>(t_max: S, best: &Option<Best<S>>) -> S {
 
 /// Does `filter` accept `hit` for ray `ray`? It sees the values [`Best::hit`] would report.
 #[inline(always)]
-pub(super) fn accepts<S: Scalar, F: HitFilter>(filter: &mut F, hit: &Best<S>, ray: u32) -> bool {
+pub(crate) fn accepts<S: Scalar, F: HitFilter>(filter: &mut F, hit: &Best<S>, ray: u32) -> bool {
     F::ACCEPTS_ALL || filter.accept(&Candidate::from_hit(&hit.hit(), ray))
 }
 
 /// Per-lane state of a packet walk: the best hits, and the `t` bound of its box tests.
-pub(super) struct PacketBest<L: Lanes> {
+pub(crate) struct PacketBest<L: Lanes> {
     pub mask: L::Mask,
     pub t: L,
     pub u: L,

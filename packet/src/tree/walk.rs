@@ -14,7 +14,7 @@ use octoray_core::scene::{Geometry, Member};
 use wide::f32x8;
 
 /// What a walk does with the slots `first..first + count` of a leaf.
-pub(super) trait Leaf<L: Lanes> {
+pub(crate) trait Leaf<L: Lanes> {
     /// What the leaf tests need of a ray or packet, computed once per walk.
     type Pre;
     /// Prepares `rays` (one ray broadcast, or a packet).
@@ -54,7 +54,7 @@ pub(super) trait Leaf<L: Lanes> {
 /// geometry `geom` when the tree holds one; with `MANY`, a tree of several geometries, each
 /// hit's is found in `members` and counts only where that geometry's mask shares a bit with
 /// `mask`: a separate instantiation, so a tree of one geometry pays nothing for it).
-pub(super) struct Prims<'a, L: Lanes, K: Kernel<L>, const MANY: bool> {
+pub(crate) struct Prims<'a, L: Lanes, K: Kernel<L>, const MANY: bool> {
     pub bvh: Bvh8Ref<'a, K::Prim>,
     pub geom: u32,
     pub inst: u32,
@@ -63,7 +63,7 @@ pub(super) struct Prims<'a, L: Lanes, K: Kernel<L>, const MANY: bool> {
 
 /// The geometries of a tree of several (empty `members`: one, reported as `Prims::geom`).
 #[derive(Clone, Copy)]
-pub(super) struct Members<'a> {
+pub(crate) struct Members<'a> {
     pub members: &'a [Member],
     pub geoms: &'a [Geometry],
     /// The query's mask and the instance's.
@@ -74,7 +74,7 @@ pub(super) struct Members<'a> {
 }
 
 /// `Best::geom` of a hit whose geometry is found after the walk.
-pub(super) const UNPLACED: u32 = u32::MAX;
+pub(crate) const UNPLACED: u32 = u32::MAX;
 
 impl Members<'_> {
     /// One geometry: nothing to find.
@@ -305,7 +305,7 @@ fn f32_bound<S: Scalar>(t: S) -> f32 {
 /// pushes them as they come (the order affects speed only, never the answer).
 #[allow(clippy::too_many_arguments)] // the walk's state, passed down once per ray
 #[inline(always)]
-pub(super) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
+pub(crate) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
     nodes: &[Bvh8Node],
     leaf: &T,
     pre: &T::Pre,
@@ -506,7 +506,7 @@ fn sort_key(near: f32, s: usize) -> u64 {
 /// the root, `best` carried in and out: prepares the ray for [`trace_single`].
 #[allow(clippy::too_many_arguments)] // the walk's state
 #[inline(always)]
-pub(super) fn run_single<
+pub(crate) fn run_single<
     L: Lanes,
     K: Kernel<L>,
     F: HitFilter,
@@ -626,7 +626,7 @@ fn largest<L: Lanes>(x: L, m: L::Mask) -> f32 {
 /// handled by `leaf`; `best` carries the hits so far in and the best ones out. `ANY` stops
 /// lanes at their first hit.
 #[allow(clippy::too_many_arguments)] // the walk's state
-pub(super) fn packet_walk<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
+pub(crate) fn packet_walk<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
     nodes: &[Bvh8Node],
     leaf: &T,
     pre: &T::Pre,
@@ -768,7 +768,7 @@ pub(super) fn packet_walk<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
 /// A packet through geometry `bvh` (hits reported as geometry `geom` of instance `inst`) from
 /// the root, `best` carried in and out.
 #[inline(always)]
-pub(super) fn run_packet<
+pub(crate) fn run_packet<
     L: Lanes,
     K: Kernel<L>,
     F: HitFilter,
@@ -820,7 +820,7 @@ fn packet<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
 }
 
 /// The packet's best hits as reported.
-pub(super) fn packet_result<L: Lanes>(b: &PacketBest<L>) -> ClosestHit<L> {
+pub(crate) fn packet_result<L: Lanes>(b: &PacketBest<L>) -> ClosestHit<L> {
     let (u, v) = barycentrics(b.u, b.v, b.scale);
     ClosestHit {
         mask: b.mask,
@@ -891,7 +891,7 @@ pub fn occluded_packet_with<L: Lanes, K: Kernel<L>, F: HitFilter>(
 }
 
 /// Do all rays of a chunk point into one octant (a coherent packet)?
-pub(super) fn coherent(rays: &[Ray]) -> bool {
+pub(crate) fn coherent(rays: &[Ray]) -> bool {
     let octant = |r: &Ray| {
         (r.dir.x.is_sign_negative() as u8)
             | ((r.dir.y.is_sign_negative() as u8) << 1)
@@ -904,7 +904,7 @@ pub(super) fn coherent(rays: &[Ray]) -> bool {
 /// direction octant go to `packet`, the others ray by ray to `single` (each given the index of
 /// its first ray).
 #[track_caller]
-pub(super) fn closest_slice<L: Lanes, F: HitFilter>(
+pub(crate) fn closest_slice<L: Lanes, F: HitFilter>(
     rays: &[Ray],
     out: &mut [Option<Hit>],
     filter: &mut F,
@@ -934,7 +934,7 @@ pub(super) fn closest_slice<L: Lanes, F: HitFilter>(
 /// The occlusion slice loop of a tree or a scene, chunks picked as [`closest_slice`] picks
 /// them.
 #[track_caller]
-pub(super) fn occluded_slice<L: Lanes, F: HitFilter>(
+pub(crate) fn occluded_slice<L: Lanes, F: HitFilter>(
     rays: &[Ray],
     out: &mut [bool],
     filter: &mut F,
