@@ -1,16 +1,18 @@
 //! Naive ray-sphere: the textbook quadratic `b² − 4ac` as a lane kernel, kept so the
 //! speed-accuracy trade against [`crate::kernels::sphere::stable`] is visible.
 //!
-//! # Accuracy contract (naive sphere)
-//! - Bit-identical across widths and builds (same exact operations as the other standard
+//! # Guarantees
+//! - **Same bits** across widths and builds (same exact operations as the other standard
 //!   kernels).
-//! - **Not sound far from the sphere**: `c = f·f − r²` and `b² − 4ac` cancel when the distance
-//!   is large compared to the radius, so hit/miss can be wrong for small distant spheres
-//!   (measured in the accuracy report at 1e2…1e6 radii) and the near root cancels in `−b + √Δ`.
 //! - Reported hits always have finite `t ∈ [t_min, t_max]`; bad input is a miss, and so is an
 //!   overflowed `b² − 4ac` or `2a` (`|f|·|d|` or `|d|·r` beyond ~1e19). A root before the ray's
 //!   entry into the sphere's bounding box is raised to that entry, and a ray that leaves that box
 //!   before `t_min` is a miss, as in the stable kernel.
+//!
+//! # Limits
+//! - **Not sound far from the sphere**: `c = f·f − r²` and `b² − 4ac` cancel when the distance
+//!   is large compared to the radius, so hit/miss can be wrong for small distant spheres
+//!   (measured in the accuracy report at 1e2…1e6 radii) and the near root cancels in `−b + √Δ`.
 
 use crate::hit::{nearest_root_in_range, LanesHit};
 use crate::lanes::{LaneMask, Lanes, Scalar};

@@ -1,34 +1,40 @@
 //! Numerically sound ray-sphere (Ray Tracing Gems ch. 7): one generic body for every lane width;
 //! `L = f32` is the scalar twin.
 //!
-//! # Accuracy contract (standard tier)
-//! - Bit-identical across `f32`, `f32x4`, `f32x8`, `f32x16` and across builds (proptested).
+//! # Guarantees (standard tier)
+//! - **Same bits** across `f32`, `f32x4`, `f32x8`, `f32x16` and across builds (proptested).
 //! - The discriminant is formed from the perpendicular distance of the centre to the ray line:
 //!   `√(Δ/4) = √a·√(r² − |l|²)`, `l = f − (f·d/a) d`, not `b² − 4ac`, so small distant spheres
 //!   keep their hit/miss answer, and no product underflows the sign of `r² − |l|²`; the roots come
 //!   from `q = −(h + sign(h)·√(Δ/4))` as `t = c/q` and `t = q/a`, so neither root cancels.
-//!   `c = f·f − r²` still cancels for an origin next to the surface of a huge sphere (there `t`
-//!   near 0 has large relative error; the accuracy tiers measure it).
 //! - The nearest root in `[t_min, t_max]` is the hit; an origin inside gets the far root. A root
 //!   before the ray's entry into the sphere's bounding box (near tangency, where the bound below
 //!   grows) is raised to that entry, which only moves it toward the exact root, and a ray that
 //!   leaves that box before `t_min` is a miss: no BVH box that holds the sphere is entered after
 //!   a reported hit on it or left before `t_min`.
 //! - **t error bound:** `|t − t_exact| ≤ 8·ε·max(|t|, (|f| + r)/|d|)/√(Δ/(a r²))` (the last factor
-//!   is the roots' sensitivity near tangency); measured at most 4.0 over near, distant
-//!   (1e2…1e4 r) and tiny cases (radii down to [`PackedSphere::MIN_RADIUS`], `|d|` down to
-//!   1.2e-19). Hit/miss is exact whenever `|Δ/(a r²)| > 64·ε·(1 + |f|/r)`; the naive form
-//!   gets 48 % of answers wrong outside that margin at 1e4 r.
+//!   is the roots' sensitivity near tangency). Hit/miss is exact whenever
+//!   `|Δ/(a r²)| > 64·ε·(1 + |f|/r)`.
+//! - Reported hits always have finite `t ∈ [t_min, t_max]`.
+//!
+//! # Limits
+//! - `c = f·f − r²` still cancels for an origin next to the surface of a huge sphere: there `t`
+//!   near 0 has large relative error.
 //! - The packed sphere stores r² in f32: for huge radii that rounding moves the surface (by
 //!   0.002 for r = 1e6), for every tier including f64.
 //! - **Range:** directions with `d·d` a normal f32 whose reciprocal is normal too (`|d|` in about
 //!   `[1.1e-19, 9.2e18]`); outside it every test is a miss. Where `h = f·d`, `c` or `q` overflows
 //!   (`|f|·|d|` or `|f|²` near `f32::MAX`: unnormalised directions in scenes beyond ~1e19) the test
 //!   is a miss, never a false hit (the f64 tier covers that range).
-//! - Reported hits always have finite `t ∈ [t_min, t_max]`. A squared radius that is not a finite
-//!   normal f32 `> 0` (what [`PackedSphere::new`] stores as NaN, but also a hand-packed ±0,
-//!   subnormal, negative or infinite one: a sphere the BVH leaves out too), zero or non-finite
-//!   directions and non-finite inputs are misses.
+//! - **Misses by construction:** a squared radius that is not a finite normal f32 `> 0` (what
+//!   [`PackedSphere::new`] stores as NaN, but also a hand-packed ±0, subnormal, negative or
+//!   infinite one: a sphere the BVH leaves out too), zero or non-finite directions and
+//!   non-finite inputs.
+//!
+//! # Measured
+//! The `t` error at most `4.0·ε·max(|t|, (|f| + r)/|d|)/√(Δ/(a r²))` over near, distant
+//! (1e2…1e4 r) and tiny cases (radii down to [`PackedSphere::MIN_RADIUS`], `|d|` down to 1.2e-19); the naive form
+//! gets 48 % of answers wrong outside the hit/miss margin at 1e4 r.
 
 use crate::hit::{nearest_root_in_range, LanesHit};
 use crate::lanes::{LaneMask, Lanes, Scalar};

@@ -1,30 +1,14 @@
 //! The exact tier's decisions, and the exact predicates behind them (also what the watertight
 //! tier falls back to when its filter cannot decide whether `t ≥ t_min`).
 //!
-//! # Accuracy contract (exact tier, [`crate::kernels::Exact`])
+//! # Guarantees (exact tier, [`crate::kernels::Exact`])
 //! - **Hit/miss is the exact answer** for the given f32 inputs, for every finite input: the line
 //!   passes inside the triangle, edges and vertices included (every `wᵢ ≥ 0` or every `wᵢ ≤ 0`,
 //!   below), is not parallel to its plane (`D ≠ 0`; a degenerate triangle has `D = 0`), and the
 //!   exact `t = N/D` lies in `[t_min, t_max]` (closed; an exact `t` beyond ±`f32::MAX` is a miss,
 //!   as for every tier). With culling, front faces are those with `D < 0`. Watertight by
-//!   construction: a shared edge's `w` is the exact negation for its two triangles. Tested with
-//!   the margin at zero against the big-integer oracle (`tests/suite/exact.rs`: random, aimed at
-//!   vertices and edges, grazing 1e-3…1e-9 rad, aspect 1e2…1e5, translated and scaled
-//!   1e-20…1e30, `t_min`/`t_max` at and one f32 step around the hit; `tests/suite/fuzz.rs` on every
-//!   hostile case); in the trade report's margin column 0 (report: `exact, 8 lanes`, in margin)
-//!   where the watertight tier has 1898 (report: `watertight, 8 lanes`, in margin); zero escapes
-//!   in every crack suite.
-//! - **How:** the watertight body is the filter. Its edge functions carry a certified bound
-//!   (`22u·Rx·Ry`, derived in [`crate::kernels::triangle::watertight`]); a lane is decided there
-//!   when all three clear it with one sign (inside) or two clear it with opposite signs (miss),
-//!   and its range when the division-free certificates decide both bounds. Every other lane, and
-//!   every lane whose products leave `[2⁻¹⁰⁰, 2¹⁰⁰]`, goes to `resolve`: f64 with certified
-//!   bounds, then, for the exact ties f64 cannot decide (a ray exactly through a vertex or along
-//!   an edge's line), [`ExactSum`]. Measured share of tests decided past the filter: random rays
-//!   0.05 %, rays aimed at f32 points of vertices and edges 100 %, grazing 1e-3 rad 2.6 %, 1e-5
-//!   rad 63 %, thin triangles of aspect 1e3 79 % (the report's table by ray family, which also
-//!   times them).
-//! - **t: the plane distance `((v0 − o)·n)/(d·n)` evaluated in f64 from the f32 inputs and
+//!   construction: a shared edge's `w` is the exact negation for its two triangles.
+//! - **`t` is the plane distance `((v0 − o)·n)/(d·n)` evaluated in f64 from the f32 inputs and
 //!   rounded once** (on lanes decided past the filter, the exact `t` rounded): the vertex and
 //!   origin differences are exact in f64, `n = (v1 − v0) × (v2 − v0)` and both dot products
 //!   carry a few units of 2⁻⁵³, so `|t − t_exact| ≤ ε·|t_exact| + 16·2⁻⁵³·max(|t|,
@@ -32,36 +16,56 @@
 //!   reach)` falls below ~3e-8 (a ray within ~1e-8 rad of the plane, a needle thinner than
 //!   that, a hit 1e7 times nearer than the vertices); where `d·n` evaluates to zero the
 //!   watertight tier's `t` stands, with its bound. Always inside `[t_min, t_max]`.
-//!   Measured against the oracle: 0 whole ulps at p50, p99 and max on every case family of the
-//!   accuracy report (random, grazing to 1e-7 rad, translated to 1e6), where the watertight
-//!   tier's `t` (the blend of the vertices' depths by the edge functions) has p99 up to 51 230
-//!   ulps on grazing rays; hit points within 0.5 f32 steps of the exact plane at p99 on thin
-//!   triangles and short rays at long trim, where the watertight tier's lie up to 41 steps off
-//!   (the report's table of hit points off the plane). Cost: the f64 evaluation per lane that
-//!   hits, +11 % instructions per single ray, +16 % per packet ray and +10 % per diffuse bounce
-//!   through the Sponza tree (cachegrind, x86-64-v3).
 //! - **Barycentrics:** on filter lanes the watertight tier's (signs certified, so in `[0, 1]`);
 //!   past the filter, the exact ones to f64 precision, rounded.
-//! - **Cost:** the filter's certificates on every test, and the f64 plane distance on every lane
-//!   that hits: 8.873 (report: `exact, 8 lanes`, ns/test) against the watertight tier's
-//!   2.992 (report: `watertight, 8 lanes`, ns/test) on the trade workload, where half the tests hit
-//!   (through a tree, where few tests hit, +10–16 % instructions per ray). Per ray family (the
-//!   report's second table, one ray and one triangle per call): 1.0× the watertight tier on
-//!   random and translated rays, 1.2× at 1e-3 rad, ~10× at 1e-5 rad and on rays aimed exactly at
-//!   vertices and edges (every test leaves the filter, a fifth of them, exact ties, reach the
-//!   integer stage), ~20× on thin triangles, where the watertight tier keeps its plane distance
-//!   and the exact tier decides every edge past the filter.
-//! - Bit-identical across `f32` and `f32x4/x8/x16` and across builds (proptested, digest): the
+//! - **Same bits** across `f32` and `f32x4/x8/x16` and across builds (proptested, digest): the
 //!   fallback is scalar f64 and integer arithmetic with no FMA.
-//! - Closest-hit queries give the exact tier the caller's `t_max` ([`crate::kernels::Kernel::EXACT_T_MAX`])
-//!   and order its hits by the rounded `t`: two hits whose exact `t` differ by less than their
-//!   rounding may come back in either order, and the tie rule picks the lower index.
+//!
+//! # Limits
+//! - Closest-hit queries give the exact tier the caller's `t_max`
+//!   ([`crate::kernels::Kernel::EXACT_T_MAX`]) and order its hits by the rounded `t`: two hits
+//!   whose exact `t` differ by less than their rounding may come back in either order, and the
+//!   tie rule picks the lower index.
 //! - Since `t ≤ t_max` is decided on the exact `t` and the reported `t` is rounded, a hit
 //!   reported at `t` can be a miss for a `t_max` at or just above `t` (the exact `t` lies within
 //!   the `t` bound above of the reported one: an ulp, save the cases named there). A ray that
 //!   must reach a reported hit point takes `t_max` beyond `t` by that bound, or the watertight
 //!   tier, which keeps such hits.
+//! - **Cost** grows with the share of tests the filter cannot decide: the filter's certificates
+//!   on every test, the f64 plane distance on every lane that hits, and exact arithmetic on rays
+//!   exactly through vertices and along edges' lines.
 //!
+//! # How
+//! The watertight body is the filter. Its edge functions carry a certified bound (`22u·Rx·Ry`,
+//! derived in [`crate::kernels::triangle::watertight`]); a lane is decided there when all three
+//! clear it with one sign (inside) or two clear it with opposite signs (miss), and its range when
+//! the division-free certificates decide both bounds. Every other lane, and every lane whose
+//! products leave `[2⁻¹⁰⁰, 2¹⁰⁰]`, goes to `resolve`: f64 with certified bounds, then, for the
+//! exact ties f64 cannot decide (a ray exactly through a vertex or along an edge's line),
+//! [`ExactSum`].
+//!
+//! # Measured
+//! - Against the big-integer oracle with the margin at zero (`tests/suite/exact.rs`: random,
+//!   aimed at vertices and edges, grazing 1e-3…1e-9 rad, aspect 1e2…1e5, translated and scaled
+//!   1e-20…1e30, `t_min`/`t_max` at and one f32 step around the hit; `tests/suite/fuzz.rs` on
+//!   every hostile case); in the trade report's margin column 0 (report: `exact, 8 lanes`, in
+//!   margin) where the watertight tier has 1898 (report: `watertight, 8 lanes`, in margin); zero
+//!   escapes in every crack suite.
+//! - `t`: 0 whole ulps at p50, p99 and max on every case family of the accuracy report (random,
+//!   grazing to 1e-7 rad, translated to 1e6), where the watertight tier's has p99 up to 51 230
+//!   ulps on grazing rays; hit points within 0.5 f32 steps of the exact plane at p99 on thin
+//!   triangles and short rays at long trim, where the watertight tier's lie up to 41 steps off.
+//! - Tests decided past the filter: random rays 0.05 %, rays aimed at f32 points of vertices and
+//!   edges 100 %, grazing 1e-3 rad 2.6 %, 1e-5 rad 63 %, thin triangles of aspect 1e3 79 % (the
+//!   report's table by ray family).
+//! - Cost: 8.873 (report: `exact, 8 lanes`, ns/test) against the watertight tier's
+//!   2.992 (report: `watertight, 8 lanes`, ns/test) on the trade workload, where half the tests
+//!   hit; through the Sponza tree, where few tests hit, +11 % instructions per single ray, +16 %
+//!   per packet ray and +10 % per diffuse bounce (cachegrind, x86-64-v3). Per ray family (one ray
+//!   and one triangle per call): 1.0× the watertight tier on random and translated rays, 1.2× at
+//!   1e-3 rad, ~10× at 1e-5 rad and on rays aimed exactly at vertices and edges, ~20× on thin
+//!   triangles.
+
 //! # The predicates
 //! With `a, b, c` the vertices relative to the origin, the line `o + t·d` meets the plane at
 //! `t = N/D`, `N = det[a, b, c]`, `D = d·((b − a) × (c − a))`, and passes edge `jk` on the side

@@ -1,21 +1,16 @@
 //! Möller-Trumbore ray-triangle, two-sided, with delayed division: one generic body for every
 //! lane width; `L = f32` is the scalar twin.
 //!
-//! # Accuracy contract (standard tier)
-//! - Bit-identical across `f32`, `f32x4`, `f32x8`, `f32x16` and across builds (SSE2, AVX,
+//! # Guarantees (standard tier)
+//! - **Same bits** across `f32`, `f32x4`, `f32x8`, `f32x16` and across builds (SSE2, AVX,
 //!   AVX-512): only `+ − × /` and comparisons, in a fixed order (proptested).
 //! - `t = (s·Ng)/det` is the plane distance formed from one subtraction and the exact edges, then
-//!   one correctly rounded division; the textbook MT form `(e2·q)/det` is not used because it
-//!   loses an order of magnitude more on grazing rays.
+//!   one correctly rounded division (the textbook form `(e2·q)/det` loses an order of magnitude
+//!   more on grazing rays).
 //! - **t error bound:** `|t − t_exact| ≤ 8·ε·max(|t|, reach)/(|cos θ|·sin α)`, with ε = 2⁻²⁴,
 //!   `reach = (|o − v0| + |e1| + |e2|)/|d|`, θ the angle between the ray and the normal and α the
-//!   triangle's smallest angle (t is a plane distance: near t = 0 and at grazing angles its
-//!   *relative* error is unbounded; for needle triangles the computed normal `e1 × e2` itself is
-//!   off by ε/sin α, which the fuzz harness found: a needle 5e7 long and 6e-8 wide gave t = 0 for
-//!   an exact t of −41).
-//!   Measured against the exact oracle (`cargo run --release --example accuracy`): at most 4.1 over
-//!   random, edge-aimed, grazing (1e-3…1e-7 rad) and translated (1e2…1e6) cases; p50 0 ulp and
-//!   p99 23 ulp on random cases.
+//!   triangle's smallest angle. `t` is a plane distance: near t = 0 and at grazing angles its
+//!   *relative* error is unbounded.
 //! - **Within the box:** `t` is raised to the ray's entry into the triangle's bounding box where
 //!   it lies before it (grazing rays, where the bound above exceeds the box's extent along the
 //!   ray), which only moves it toward the exact `t`; a ray that leaves that box before `t_min`
@@ -24,18 +19,27 @@
 //!   force.
 //! - Hit/miss agrees with the exact answer whenever the exact hit point is farther than
 //!   `64·ε·|o − v0|/(h·|cos θ|)` (barycentric units, h the smallest height) from every edge.
-//! - Not watertight: a ray through a shared edge or vertex can miss both neighbours when the
-//!   rounded edge functions disagree in sign. Use the watertight tier where that matters.
 //! - Reported hits always have finite `t ∈ [t_min, t_max]`, finite `u, v ≥ 0` with `u + v ≲ 1`.
-//!   Non-finite inputs, zero directions, zero-area triangles (also needles whose packed edges
-//!   are parallel: `|det| ≤ 8ε·|d|₁·|e1|₁·|e2|₁` is a miss), rays in or parallel to the plane
-//!   (within ~1e-6 rad), products that overflow (coordinates beyond ~1e12) and products that
-//!   underflow (`|e1|₁·|e2|₁` or `|d|₁·|e1|₁·|e2|₁` below 2⁻¹⁰⁰ at f32, 2⁻⁹⁹⁶ at f64: with
-//!   `|d| = 1`, triangles below ~1e-15) are misses.
-//! - Range of the bounds above: every product of the inputs must stay a normal f32. Where
+//!
+//! # Limits
+//! - **Not watertight:** a ray through a shared edge or vertex can miss both neighbours when the
+//!   rounded edge functions disagree in sign. Use the watertight tier where that matters.
+//! - **Misses by construction:** non-finite inputs, zero directions, zero-area triangles (also
+//!   needles whose packed edges are parallel: `|det| ≤ 8ε·|d|₁·|e1|₁·|e2|₁`), rays in or parallel
+//!   to the plane (within ~1e-6 rad), products that overflow (coordinates beyond ~1e12) and
+//!   products that underflow (`|e1|₁·|e2|₁` or `|d|₁·|e1|₁·|e2|₁` below 2⁻¹⁰⁰ at f32, 2⁻⁹⁹⁶ at
+//!   f64: with `|d| = 1`, triangles below ~1e-15).
+//! - **Needles:** the computed normal `e1 × e2` is itself off by ε/sin α (a needle 5e7 long and
+//!   6e-8 wide gives t = 0 for an exact t of −41).
+//! - **Range of the bounds:** every product of the inputs must stay a normal f32. Where
 //!   `|d|·|v − o| < 1e-30` (a subnormal or tiny direction) the products `s × d` go subnormal and
-//!   `t` loses its relative accuracy (the fuzz harness saw t = 2.0e38 for an exact 4e38 with
-//!   |d| = 7e-41); hits keep the shape guarantees above. Normalise directions.
+//!   `t` loses its relative accuracy (t = 2.0e38 for an exact 4e38 with |d| = 7e-41); hits keep
+//!   the shape guarantees above. Normalise directions.
+//!
+//! # Measured
+//! Against the exact oracle (`cargo run --release --example accuracy`): the `t` error at most
+//! `4.1·ε·max(|t|, reach)/(|cos θ|·sin α)` over random, edge-aimed, grazing (1e-3…1e-7 rad) and
+//! translated (1e2…1e6) cases; p50 0 ulp and p99 23 ulp on random cases.
 
 use crate::hit::{t_in_range, within_box, LanesHit};
 use crate::lanes::V3;

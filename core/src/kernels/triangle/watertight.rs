@@ -1,70 +1,73 @@
 //! Watertight ray-triangle (Woop, Benthin & Wald 2013, "Watertight Ray/Triangle Intersection",
 //! JCGT 2(1)) with pbrt-v4's conservative bound on `t`: one generic body for every lane width,
-//! with the dominant axis chosen per lane.
+//! with the dominant axis chosen per lane. It reads [`VertexTriangle`] (the three vertices and the
+//! unit normal): watertightness needs the shared vertices themselves, not rounded edges; the edge
+//! test reads only the vertices, the normal only places the hit (a normal that does not match the
+//! vertices moves `t`, never the decision).
 //!
-//! # Accuracy contract (watertight tier)
-//! - Watertight: the edge functions of a shared edge are computed from the same vertex values in
-//!   the same order by both neighbours, with exact signs at zero (recomputed in f64 when any is
-//!   exactly 0), so a ray through an edge or vertex of a closed mesh hits at least one of the
-//!   triangles around it. Tested with zero escapes over closed jittered meshes.
-//! - Bit-identical across `f32` and `f32x4/x8/x16` and across builds (proptested), like the
+//! # Guarantees
+//! - **Watertight:** the edge functions of a shared edge are computed from the same vertex values
+//!   in the same order by both neighbours, with exact signs at zero (recomputed in f64 when any
+//!   is exactly 0), so a ray through an edge or vertex of a closed mesh hits at least one of the
+//!   triangles around it.
+//! - **Same bits** across `f32` and `f32x4/x8/x16` and across builds (proptested), like the
 //!   standard tier.
-//! - **Range:** a hit is reported iff the edge test passes, the *exact* `t` is `≥ t_min`, and
-//!   the reported `t` is `≤ t_max` (the plane-distance `t`, or the exact one on the lanes that
-//!   report it; both below). The `t_min` side is certified without a division (the sign of `N − t_min·D`
-//!   against its error bound, or every vertex's depth against `t_min`, which keeps small
-//!   distant triangles) and, on the lanes neither certificate decides, decided with
-//!   exact arithmetic (the exact tier's predicates, [`crate::kernels::triangle::exact`], lane by lane, rare): a
-//!   hit just in front of `t_min` is never lost, one just behind is never reported, for every
-//!   finite input (oracle-tested; the thin-triangle reproducer is in `tests/suite/hostile.rs`).
+//! - **Range:** a hit is reported iff the edge test passes, the *exact* `t` is `≥ t_min`, and the
+//!   reported `t` is `≤ t_max` (the plane-distance `t`, or the exact one on the lanes that report
+//!   it; below). The `t_min` side is certified without a division (the sign of `N − t_min·D`
+//!   against its error bound, or every vertex's depth against `t_min`, which keeps small distant
+//!   triangles) and, on the lanes neither certificate decides, decided with exact arithmetic (the
+//!   exact tier's predicates, [`crate::kernels::triangle::exact`], lane by lane, rare): a hit just
+//!   in front of `t_min` is never lost, one just behind is never reported, for every finite input.
 //!   The `t_max` side compares the reported `t`, as the standard tier does and as closest-hit
-//!   queries order hits, so a hit reported at `t` stays a hit for every `t_max` a little above
-//!   it ([`crate::kernels::Kernel::EXACT_T_MAX`]); the exact tier ([`crate::kernels::Exact`]) decides
+//!   queries order hits, so a hit reported at `t` stays a hit for every `t_max` a little above it
+//!   ([`crate::kernels::Kernel::EXACT_T_MAX`]); the exact tier ([`crate::kernels::Exact`]) decides
 //!   both sides exactly.
-//! - **t error bound:** `t` is the plane distance `((v0 − o)·n)/(d·n)` from the stored unit
-//!   normal ([`VertexTriangle::n`], formed in f64), in f32: with `ε = 2⁻²⁴`, `n` within an ulp
-//!   of the exact normal and the plane through `v0` off by at most `ε·|p − v0|·|n|` at the
-//!   hit point `p`, `|t − t_exact| ≤ 8·ε·max(|t|, reach)/|cos θ|` to first order (`reach =
-//!   (|o − v0| + |v1 − v0| + |v2 − v0|)/|d|`, θ the angle between the ray and the normal):
-//!   the standard tier's form without its `1/sin α`, so thin triangles cost nothing. The hit
-//!   point `o + t·d` lies within `ε·(4|v0 − o| + 4|t·d| + |p − v0|)` of the plane: on thin
-//!   triangles (aspect 1e2 to 1e4) p99 ≤ 1.6 f32 steps at the point, on short rays along long
-//!   trim p99 ≤ 0.4 (the accuracy report's off-plane table). Measured at most 2.4·ε·max(|t|, reach)/|cos θ| (p50 0 ulp,
-//!   p99 27 ulp on random cases: the quotient's numerator cancels where the hit lies far from
-//!   `v0`, which the blend of depths did not; the point stays on the plane). Where `d·n`
-//!   disagrees in sign with the edge test's determinant (rays within about `ε` rad of the
-//!   plane) or the quotient is not finite, `t` is the blend of the vertices' depths weighed by
-//!   the edge functions, with the standard tier's bound `8·ε·max(|t|, reach)/(|cos θ|·sin α)`
-//!   (α the smallest angle); at f64 widths always that blend (its error, `∝ 2⁻⁵³/sin α`, is
-//!   below f32's resolution). Hits have finite `t ∈ [t_min, t_max]` (the reported `t` is
-//!   clamped up to `t_min` where the exact `t` was certified above it). Where the determinant
-//!   is within its own error bound (a triangle that subtends less than about 2·10⁻³ rad seen
-//!   from the origin, or a ray within ~1e-6 rad of the plane), `t ≥ t_min` is decided by the
-//!   exact stage (f64 with a certified bound, exact arithmetic where that cannot decide) and
-//!   `t` stays the plane distance. Where the kernel's products leave `[2⁻¹⁰⁰, 2¹⁰⁰]`, or the
-//!   plane distance is not usable there, `t` is the exact `t` rounded instead, and `t ≤ t_max`
-//!   is decided on it exactly. On lanes not given the exact `t`, `t` is raised to the ray's
-//!   entry into the triangle's bounding box where it lies before it (grazing rays), which only
-//!   moves it toward the exact `t`: no BVH box that holds the triangle is entered after a
-//!   reported hit on it.
+//! - **`t` error bound:** `t` is the plane distance `((v0 − o)·n)/(d·n)` from the stored unit
+//!   normal ([`VertexTriangle::n`], formed in f64), in f32: with `ε = 2⁻²⁴`, `n` within an ulp of
+//!   the exact normal and the plane through `v0` off by at most `ε·|p − v0|·|n|` at the hit point
+//!   `p`, `|t − t_exact| ≤ 8·ε·max(|t|, reach)/|cos θ|` to first order (`reach = (|o − v0| +
+//!   |v1 − v0| + |v2 − v0|)/|d|`, θ the angle between the ray and the normal): the standard tier's
+//!   form without its `1/sin α`, so thin triangles cost nothing. The hit point `o + t·d` lies
+//!   within `ε·(4|v0 − o| + 4|t·d| + |p − v0|)` of the plane.
+//! - **Where the plane distance is not used:** where `d·n` disagrees in sign with the edge test's
+//!   determinant (rays within about `ε` rad of the plane) or the quotient is not finite, `t` is
+//!   the blend of the vertices' depths weighed by the edge functions, with the standard tier's
+//!   bound `8·ε·max(|t|, reach)/(|cos θ|·sin α)` (α the smallest angle); at f64 widths always
+//!   that blend (its error, `∝ 2⁻⁵³/sin α`, is below f32's resolution). Where the determinant is
+//!   within its own error bound (a triangle that subtends less than about 2·10⁻³ rad seen from the
+//!   origin, or a ray within ~1e-6 rad of the plane), `t ≥ t_min` is decided by the exact stage
+//!   (f64 with a certified bound, exact arithmetic where that cannot decide) and `t` stays the
+//!   plane distance. Where the kernel's products leave `[2⁻¹⁰⁰, 2¹⁰⁰]`, or the plane distance is
+//!   not usable there, `t` is the exact `t` rounded, and `t ≤ t_max` is decided on it exactly.
+//! - **Hits are finite** with `t ∈ [t_min, t_max]` (the reported `t` is clamped up to `t_min`
+//!   where the exact `t` was certified above it). On lanes not given the exact `t`, `t` is raised
+//!   to the ray's entry into the triangle's bounding box where it lies before it (grazing rays),
+//!   which only moves it toward the exact `t`: no BVH box that holds the triangle is entered
+//!   after a reported hit on it.
+//!
+//! # Limits
+//! - **Overflow:** the products are of origin-relative coordinates with z normalised by the
+//!   shear, so they overflow only when |v − o|² nears f32::MAX (~1e19), far later than the
+//!   standard tier's ~7e12; overflow is a miss, never an inf/NaN hit. Use the f64 instantiation
+//!   beyond that.
+//! - **Underflow:** the edge functions are products of two sheared extents; where those go
+//!   subnormal (triangles and distances below ~1e-19 from the origin's line) their computed signs
+//!   can be wrong and a hit can be missed (`tests/suite/extremes.rs` documents 1e-30). The range
+//!   and `t` are not affected (those lanes are decided exactly); for such scenes use the exact
+//!   tier, which decides the edges exactly too.
+//!
+//! # Measured
 //! - Zero escapes over 10⁵ rays aimed at the vertices and edges of closed jittered meshes centred
 //!   at 0…1e6 (`tests/suite/watertight.rs`); in the trade report 0.000 % (report: `watertight, 8
 //!   lanes`, crack rate) escape where the standard tier lets 1.540 % (report: `standard, 8
 //!   lanes`, crack rate) through.
-//! - Reads [`VertexTriangle`] (the three vertices and the unit normal): watertightness needs the
-//!   shared vertices themselves, not rounded edges; the edge test reads only the vertices, the
-//!   normal only places the hit (a normal that does not match the vertices moves `t`, never the
-//!   decision).
-//! - The products are of origin-relative coordinates with z normalised by the shear, so they
-//!   overflow only when |v − o|² nears f32::MAX (~1e19), far later than the standard tier's
-//!   ~7e12; overflow is a miss, never an inf/NaN hit. Use the f64 instantiation beyond that.
-//! - Underflow: the edge functions are products of two sheared extents; where those go subnormal
-//!   (triangles and distances below ~1e-19 from the origin's line) their computed signs can be
-//!   wrong and a hit can be missed (`tests/suite/extremes.rs` documents 1e-30). The range and `t` no
-//!   longer suffer from it: lanes whose products leave `[2⁻¹⁰⁰, 2¹⁰⁰]` are decided exactly (the
-//!   fuzz harness had seen `t = 0` reported for an exact `t` of 3e-36). For such scenes use the
-//!   exact tier, which decides the edges exactly too.
-//!
+//! - `t` error at most 2.4·ε·max(|t|, reach)/|cos θ| (p50 0 ulp, p99 27 ulp on random cases);
+//!   the hit point off the plane by p99 ≤ 1.6 f32 steps on thin triangles (aspect 1e2 to 1e4)
+//!   and ≤ 0.4 on short rays along long trim (the accuracy report's off-plane table).
+//! - The range decisions against the oracle: `tests/suite/exact.rs` and the thin-triangle
+//!   reproducer in `tests/suite/hostile.rs`.
+
 use crate::hit::{within_box, LanesHit};
 use crate::kernels::triangle::exact::{cross3, dot3, resolve, sub3, LaneQuery};
 use crate::lanes::V3;
