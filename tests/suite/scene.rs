@@ -13,7 +13,7 @@ use octoray::kernels::{Kernel, MollerTrumbore, StableSphere, Watertight};
 use octoray::lanes::{LaneMask, Lanes};
 use octoray::prim::{PackedSphere, PackedTriangle, Primitive, Ray, RayLanes, VertexTriangle};
 use octoray::scene::{
-    Geometry, Instance, Member, Scene, SceneError, SceneParts, SceneRef, SceneTree, Trace,
+    Geometry, Instance, Member, Scene, SceneError, SceneParts, SceneRef, SceneTree, Trace, Tracer,
     Transform,
 };
 use octoray::{f32x16, f32x4, f32x8, query};
@@ -627,6 +627,68 @@ fn equal_t_across_instances_goes_to_the_lower_instance() {
 
 /// A filter sees geometry and instance, and rejecting one instance's hits equals brute force
 /// without that instance.
+/// A `Tracer` answers what the `Trace` calls it fixes the tiers and width of answer, bit for bit,
+/// on every query kind, with masks and with a filter.
+#[test]
+fn tracer_answers_are_the_trace_calls() {
+    let mut hits = 0;
+    for seed in 0..8u64 {
+        let (w, rays) = world(seed * 17 + 3, pack_vertex);
+        let scene = w.scene();
+        let r = scene.as_ref();
+        let tracer = Tracer::<f32x8, Watertight, StableSphere>::new(r);
+        let copy = tracer;
+        assert_eq!(copy.scene().instances().len(), r.instances().len());
+        for &mask in &MASKS {
+            let (mut a, mut b) = (vec![None; rays.len()], vec![None; rays.len()]);
+            tracer.closest(&rays, mask, &mut a);
+            r.closest::<f32x8, Watertight, StableSphere>(&rays, mask, &mut b);
+            assert_eq!(
+                a.iter().map(|h| bits(*h)).collect::<Vec<_>>(),
+                b.iter().map(|h| bits(*h)).collect::<Vec<_>>()
+            );
+            let (mut a, mut b) = (vec![false; rays.len()], vec![false; rays.len()]);
+            tracer.occluded(&rays, mask, &mut a);
+            r.occluded::<f32x8, Watertight, StableSphere>(&rays, mask, &mut b);
+            assert_eq!(a, b);
+            for chunk in rays.chunks(8) {
+                let p = RayLanes::<f32x8>::load(chunk);
+                let (x, y) = (
+                    tracer.closest_packet(&p, mask),
+                    r.closest_packet::<f32x8, Watertight, StableSphere>(&p, mask),
+                );
+                for i in 0..chunk.len() {
+                    assert_eq!(bits(x.lane(i)), bits(y.lane(i)));
+                }
+                assert_eq!(
+                    tracer.occluded_packet(&p, mask).bitmask(),
+                    r.occluded_packet::<f32x8, Watertight, StableSphere>(&p, mask)
+                        .bitmask()
+                );
+            }
+            for ray in &rays {
+                let h = tracer.closest_ray(ray, mask);
+                assert_eq!(
+                    bits(h),
+                    bits(r.closest_ray::<f32x8, Watertight, StableSphere>(ray, mask))
+                );
+                assert_eq!(tracer.occluded_ray(ray, mask), h.is_some());
+                hits += usize::from(h.is_some());
+                // A filter that rejects even primitives, through the tracer and the trait.
+                let mut odd = |c: &Candidate| c.prim % 2 == 1;
+                let mut odd2 = |c: &Candidate| c.prim % 2 == 1;
+                assert_eq!(
+                    bits(tracer.closest_ray_with(ray, mask, &mut odd)),
+                    bits(r.closest_ray_with::<f32x8, Watertight, StableSphere, _>(
+                        ray, mask, &mut odd2
+                    ))
+                );
+            }
+        }
+    }
+    assert!(hits > 100, "{hits}");
+}
+
 #[test]
 fn filters_see_geometry_and_instance() {
     for seed in 0..16u64 {

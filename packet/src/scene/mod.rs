@@ -1,10 +1,11 @@
 //! Rays against a renderer's scene of geometries and instances ([`SceneRef`] through
-//! [`Trace`]): the walks of [`crate::tree`] on two levels, triangles and spheres in one query,
+//! [`Trace`], or through a [`Tracer`] that fixes the tiers and the lane width once): the walks of [`crate::tree`] on two levels, triangles and spheres in one query,
 //! masks, and the geometry and instance in every hit; its contract is
 //! [`octoray_core::scene`]'s.
 
 mod instances;
 mod masks;
+mod tracer;
 
 pub use instances::Trace;
 pub use masks::RayMasks;
@@ -17,6 +18,7 @@ pub use octoray_core::scene::{
     SceneTree, Transform, TreeParts, TreeRef, INSTANCES, MAX_CONDITION, MAX_INSTANCE_LEVELS,
     SPHERES, TRIANGLES,
 };
+pub use tracer::Tracer;
 
 /// The one-tree walks' former paths, kept this release; they are [`crate::tree`]'s.
 #[doc(hidden)]
