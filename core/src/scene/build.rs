@@ -808,7 +808,9 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
         self.committed
     }
 
-    /// The scene as borrowed slices, for tracing.
+    /// The scene as borrowed slices, for tracing: constant time and no validation, but not free
+    /// (a few dozen slice bounds and the world's level assembled), so a loop over rays takes it
+    /// once, outside the loop (or keeps a `Tracer` made from it, in `octoray::scene`).
     ///
     /// # Panics
     /// When instances or geometries changed since the last [`Scene::commit`].
