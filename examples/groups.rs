@@ -5,7 +5,7 @@ use octoray::f32x8;
 use octoray::glam::{Affine3A, Quat, Vec3};
 use octoray::kernels::{StableSphere, Watertight};
 use octoray::prim::{PackedSphere, Ray, RayLanes, VertexTriangle};
-use octoray::scene::{Scene, Trace, Transform};
+use octoray::scene::{Scene, Tracer, Transform};
 
 fn main() {
     let p = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z].map(|v| v - Vec3::splat(0.25));
@@ -48,6 +48,7 @@ fn main() {
     }
     scene.commit().expect("commit");
     let s = scene.as_ref();
+    let tracer = Tracer::<f32x8, Watertight, StableSphere>::new(s);
     println!(
         "{} stored triangles, {} instances, {} instance paths: {} virtual triangles",
         tet.len(),
@@ -59,7 +60,7 @@ fn main() {
     // Straight down onto row 70, plant 30: the hit's path is (row, plant, tetrahedron).
     let down = Ray::new(Vec3::new(60.0, 10.0, 140.0), -Vec3::Y);
     for mask in [!0, 1] {
-        match s.closest_ray::<f32x8, Watertight, StableSphere>(&down, mask) {
+        match tracer.closest_ray(&down, mask) {
             Some(h) => {
                 let path = s.instance_path(h.inst).expect("a reported path");
                 println!(
@@ -77,7 +78,7 @@ fn main() {
     let rays: Vec<Ray> = (0..8)
         .map(|i| Ray::new(Vec3::new(-5.0, 0.2, i as f32 * 2.0), Vec3::X))
         .collect();
-    let hits = s.closest_packet::<f32x8, Watertight, StableSphere>(&RayLanes::load(&rays), !0);
+    let hits = tracer.closest_packet(&RayLanes::load(&rays), !0);
     for i in 0..rays.len() {
         if let Some(h) = hits.lane(i) {
             let path = s.instance_path(h.inst).expect("a reported path");

@@ -5,7 +5,7 @@ use octoray::f32x8;
 use octoray::glam::{Affine3A, Quat, Vec3};
 use octoray::kernels::{StableSphere, Watertight};
 use octoray::prim::{PackedSphere, Ray, RayLanes, VertexTriangle};
-use octoray::scene::{Scene, Trace, Transform};
+use octoray::scene::{Scene, Tracer, Transform};
 
 fn main() {
     // A unit tetrahedron, and two ground quads as two more meshes.
@@ -45,6 +45,7 @@ fn main() {
     }
     scene.commit().expect("commit");
     let s = scene.as_ref();
+    let tracer = Tracer::<f32x8, Watertight, StableSphere>::new(s);
     println!(
         "{} geometries, {} trees, {} instances",
         s.geometries().len(),
@@ -53,12 +54,12 @@ fn main() {
     );
 
     let down = Ray::new(Vec3::new(1.0, 10.0, -19.0), -Vec3::Y);
-    let hit = s.closest_ray::<f32x8, Watertight, StableSphere>(&down, !0);
+    let hit = tracer.closest_ray(&down, !0);
     println!("straight down onto an instance: {hit:?}");
     // Mask 2 sees only the spheres' instance.
     let up = Ray::new(Vec3::new(0.0, -5.0, 0.0), Vec3::Y);
     for mask in [!0, 2] {
-        let h = s.closest_ray::<f32x8, Watertight, StableSphere>(&up, mask);
+        let h = tracer.closest_ray(&up, mask);
         println!("up from below, mask {mask:#x}: {h:?}");
     }
 
@@ -66,7 +67,7 @@ fn main() {
     let rays: Vec<Ray> = (0..8)
         .map(|i| Ray::new(Vec3::new(-25.0, 0.0, i as f32 * 2.0 - 7.0), Vec3::X))
         .collect();
-    let hits = s.closest_packet::<f32x8, Watertight, StableSphere>(&RayLanes::load(&rays), !0);
+    let hits = tracer.closest_packet(&RayLanes::load(&rays), !0);
     for i in 0..rays.len() {
         if let Some(h) = hits.lane(i) {
             println!(
