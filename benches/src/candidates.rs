@@ -26,7 +26,6 @@ use glam::Vec3;
 use octoray::hit::{t_in_range, LanesHit};
 use octoray::lanes::{LaneMask, Lanes, V3};
 use octoray::prim::{Ray, RayLanes};
-use octoray::query::loosen;
 
 /// A triangle as three planes `(a, b, c, w)`, each evaluated at `p` as `a·x + b·y + c·z + w`:
 /// the triangle's plane (the unit normal, `w = −n·v0`), then the planes giving the barycentric
@@ -222,7 +221,7 @@ pub fn closest_t<L: Lanes, P>(ray: &RayLanes<L>, tris: &[P], test: Test<L, P>) -
         if h.mask.any() {
             let m = h.mask & (!found | h.t.lt(t));
             t = L::select(m, h.t, t);
-            ray.t_max = L::select(m, loosen(h.t, t_max), ray.t_max);
+            ray.t_max = L::select(m, h.t.loosen(t_max), ray.t_max);
             found = found | h.mask;
         }
     }

@@ -125,7 +125,7 @@ pub fn closest<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> 
             if !K::EXACT_T_MAX {
                 // Loosened from the kernel's t (equal to the new best where `m` is set), not from
                 // the running best: off the loop-carried chain from one test's t_max to the next.
-                ray.t_max = L::select(m, loosen(h.t, t_max), ray.t_max);
+                ray.t_max = L::select(m, h.t.loosen(t_max), ray.t_max);
             }
         }
     }
@@ -140,16 +140,6 @@ pub fn closest<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -> 
         geom: miss.geom,
         inst: miss.inst,
     }
-}
-
-/// `t` moved up by 2⁻²⁰ relative (and the smallest normal), but never past the caller's `t_max`:
-/// the kernels' `t_max` once a query has a hit at `t`, so that a hit at the same or a nearer
-/// rounded `t` is still reported while far hits are cut off. The scene walks use the same rule
-/// (not part of the API).
-#[doc(hidden)]
-#[inline(always)]
-pub fn loosen<L: Lanes>(t: L, t_max: L) -> L {
-    (t + t.abs() * L::splat(1.0 / 1_048_576.0) + L::splat(f32::MIN_POSITIVE)).min_or_rhs(t_max)
 }
 
 /// Panics with a clear message when `n` primitives cannot be indexed by `u32`.
@@ -177,7 +167,7 @@ pub fn closest_t<L: Lanes, K: Kernel<L>>(ray: &RayLanes<L>, prims: &[K::Prim]) -
             let m = h.mask & (!found | h.t.lt(t));
             t = L::select(m, h.t, t);
             if !K::EXACT_T_MAX {
-                ray.t_max = L::select(m, loosen(h.t, t_max), ray.t_max);
+                ray.t_max = L::select(m, h.t.loosen(t_max), ray.t_max);
             }
             found = found | h.mask;
         }

@@ -245,10 +245,11 @@ fn stored_normal_is_read_at_f32_and_recomputed_at_f64() {
 }
 
 /// `t` loosened as the closest-hit queries and the BVH loosen the running best before they lower
-/// `t_max` to it: 2⁻²⁰ relative, plus the smallest normal f32.
+/// `t_max` to it ([`Lanes::loosen`]: 2⁻²⁰ relative, plus the smallest normal f32).
 fn loosened(t: f32) -> f32 {
-    let x = f64::from(t);
-    (x + x.abs() / 1_048_576.0 + f64::from(f32::MIN_POSITIVE)) as f32
+    let l = t.loosen(f32::INFINITY);
+    assert!(l > t, "{t}: the loosened bound lies above the hit");
+    l
 }
 
 /// Checks, for each ray, that a hit reported at `t` is reported again with `t_max` lowered to

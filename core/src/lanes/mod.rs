@@ -154,8 +154,8 @@ pub trait Lanes:
     type Mask: LaneMask;
     /// Per-lane `u32` (primitive indices).
     type Index: Copy;
-    /// Element type.
-    type Scalar: Scalar;
+    /// Element type (itself one lane).
+    type Scalar: Scalar + Lanes<Scalar = Self::Scalar>;
 
     /// Every lane set to `x` (exactly widened from `f32`).
     fn splat(x: f32) -> Self;
@@ -213,6 +213,17 @@ pub trait Lanes:
         Self::select(self.lt(rhs), self, rhs)
     }
 
+    /// A query's kernel `t_max` once it has a hit at `self`, per lane: `self` moved up by 2⁻²⁰ of
+    /// itself and by the smallest normal f32, but never past `t_max` (`t_max` where that is NaN).
+    /// A later hit at the same or a nearer rounded `t` is still reported (the tie rule decides
+    /// between them) while far hits are cut off. The one rule of the slice queries and the walks,
+    /// at every width, single rays included.
+    #[inline(always)]
+    fn loosen(self, t_max: Self) -> Self {
+        (self + self.abs() * Self::splat(1.0 / 1_048_576.0) + Self::splat(f32::MIN_POSITIVE))
+            .min_or_rhs(t_max)
+    }
+
     /// `if self > rhs { self } else { rhs }` per lane: `rhs` when either is NaN (`maxps`).
     #[inline(always)]
     fn max_or_rhs(self, rhs: Self) -> Self {
@@ -228,7 +239,12 @@ pub trait Lanes:
     #[inline]
     fn diff_of_products_wide(a: Self, b: Self, c: Self, d: Self) -> Self {
         Self::from_fn(|i| {
-            Self::Scalar::diff_of_products_wide(a.lane(i), b.lane(i), c.lane(i), d.lane(i))
+            <Self::Scalar as Scalar>::diff_of_products_wide(
+                a.lane(i),
+                b.lane(i),
+                c.lane(i),
+                d.lane(i),
+            )
         })
     }
 }

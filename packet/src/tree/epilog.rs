@@ -1,7 +1,6 @@
 //! What happens to a hit, apart from the test: the filter's verdict and the closest-hit
 //! update, for single rays and packets alike.
 
-use super::slab::loosen;
 use octoray_core::hit::{Candidate, Hit, HitFilter, LanesHit};
 use octoray_core::lanes::{LaneMask, Lanes, Scalar};
 
@@ -70,18 +69,12 @@ pub(crate) fn better<S: Scalar>(t: S, inst: u32, id: u32, best: &Option<Best<S>>
 }
 
 /// The `t` bound of box tests and kernel calls: the ray's `t_max`, or once there is a hit, its
-/// `t` loosened so that a later hit at the same `t` is still seen (the tie rule decides).
+/// `t` loosened ([`Lanes::loosen`]) so that a later hit at the same `t` is still seen (the tie
+/// rule decides).
 #[inline(always)]
-pub(crate) fn bound<S: Scalar>(t_max: S, best: &Option<Best<S>>) -> S {
+pub(crate) fn bound<S: Scalar + Lanes>(t_max: S, best: &Option<Best<S>>) -> S {
     match best {
-        Some(b) => {
-            let l = loosen(b.t);
-            if l < t_max {
-                l
-            } else {
-                t_max
-            }
-        }
+        Some(b) => b.t.loosen(t_max),
         None => t_max,
     }
 }
@@ -158,7 +151,7 @@ impl<L: Lanes> PacketBest<L> {
         self.prim = L::select_index(m, L::splat_index(b.prim), self.prim);
         self.geom = L::select_index(m, L::splat_index(b.geom), self.geom);
         self.inst = L::select_index(m, L::splat_index(b.inst), self.inst);
-        self.cull = L::select(m, octoray_core::query::loosen(self.t, t_max), self.cull);
+        self.cull = L::select(m, self.t.loosen(t_max), self.cull);
         self.moved = true;
         self.unplaced |= b.geom == super::walk::UNPLACED;
     }

@@ -315,11 +315,3 @@ pub(crate) fn extreme_lane<L: Lanes>(x: L, m: L::Mask, max: bool) -> f32 {
     }
     a[0]
 }
-
-/// `t` moved up so that a kernel hit at exactly `t` passes the kernels' scaled range test: the
-/// traversal's `t_max` once it has a hit at `t` (the final choice compares exactly).
-#[inline(always)]
-pub(crate) fn loosen<S: Scalar>(t: S) -> S {
-    let x = t.to_f64();
-    S::from_f64(x + x.abs() * (1.0 / 1_048_576.0) + f64::from(f32::MIN_POSITIVE))
-}

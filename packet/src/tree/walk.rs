@@ -265,11 +265,7 @@ impl<L: Lanes, K: Kernel<L>, const MANY: bool> Leaf<L> for Prims<'_, L, K, MANY>
                     break;
                 }
             } else {
-                best.cull = L::select(
-                    m,
-                    octoray_core::query::loosen(best.t, rays.t_max),
-                    best.cull,
-                );
+                best.cull = L::select(m, best.t.loosen(rays.t_max), best.cull);
                 best.moved = true;
             }
         }
