@@ -442,6 +442,76 @@ fn empty_and_unhittable_scenes_miss() {
     assert_eq!(closest_ray::<f32x8, MollerTrumbore>(b.as_ref(), &ray), None);
 }
 
+/// The former names of the calls that take a thread pool (deprecated this release) are the new
+/// calls: the same trees, the same refits, the same committed scenes.
+#[test]
+#[allow(deprecated)]
+fn former_thread_pool_names_are_the_new_calls() {
+    use octoray::kernels::StableSphere;
+    use octoray::prim::PackedSphere;
+    use octoray::scene::{Scene, Trace, Transform};
+    let mut rng = Rng(11);
+    let mut tris: Vec<VertexTriangle> = (0..500)
+        .map(|_| {
+            let a = rng.vec3(10.0);
+            VertexTriangle::new(a, a + rng.vec3(1.0), a + rng.vec3(1.0))
+        })
+        .collect();
+    let bytes = |t: &Bvh8<VertexTriangle>| {
+        (
+            bytemuck::cast_slice::<Bvh8Node, u8>(t.nodes()).to_vec(),
+            bytemuck::cast_slice::<_, u8>(t.blocks()).to_vec(),
+            t.ids().to_vec(),
+        )
+    };
+    let (mut old, mut new) = (
+        Bvh8::try_build_with(&tris, &Sequential).expect("build"),
+        Bvh8::try_build_on(&tris, &Sequential).expect("build"),
+    );
+    assert_eq!(bytes(&old), bytes(&new));
+    for t in tris.iter_mut().step_by(3) {
+        let [a, b, c] = t.vertices();
+        *t = VertexTriangle::new(a + Vec3::Y, b, c);
+    }
+    old.refit_with(&tris, &Sequential).expect("refit");
+    new.refit_on(&tris, &Sequential).expect("refit");
+    assert_eq!(bytes(&old), bytes(&new));
+    let ray = Ray::new(Vec3::new(0.0, 20.0, 0.0), Vec3::new(0.1, -1.0, 0.05));
+    let scenes = [0, 1].map(|former| {
+        let mut scene = Scene::<VertexTriangle, PackedSphere>::new();
+        let g = scene.add_triangles(&tris[..250]).expect("geometry");
+        scene.add_instance(&[g], Transform::IDENTITY, !0);
+        if former == 1 {
+            scene.commit_with(&Sequential).expect("commit");
+            scene
+                .refit_triangles_with(g, &tris[250..], &Sequential)
+                .expect("refit");
+            scene.commit_with(&Sequential).expect("commit");
+        } else {
+            scene.commit_on(&Sequential).expect("commit");
+            scene
+                .refit_triangles_on(g, &tris[250..], &Sequential)
+                .expect("refit");
+            scene.commit_on(&Sequential).expect("commit");
+        }
+        scene
+    });
+    let hits = scenes.each_ref().map(|s| {
+        let r = s.as_ref();
+        (0..64)
+            .map(|i| {
+                let d = Vec3::new(i as f32 * 0.01 - 0.3, -1.0, 0.05);
+                r.closest_ray::<f32x8, Watertight, StableSphere>(&Ray::new(ray.origin, d), !0)
+            })
+            .collect::<Vec<_>>()
+    });
+    assert_eq!(hits[0], hits[1]);
+    assert!(
+        hits[0].iter().any(Option::is_some),
+        "the refitted mesh is hit"
+    );
+}
+
 /// The threaded build (`try_build_on` and rayon's join, the facade's `rayon` feature) gives
 /// the same tree, bit for bit, as the single-threaded one: on scenes large enough to split
 /// across threads many times (a 320 000-triangle icosphere, a 60 000-triangle soup with
