@@ -676,11 +676,10 @@ fn tracer_answers_are_the_trace_calls() {
                 hits += usize::from(h.is_some());
                 // A filter that rejects even primitives, through the tracer and the trait.
                 let mut odd = |c: &Candidate| c.prim % 2 == 1;
-                let mut odd2 = |c: &Candidate| c.prim % 2 == 1;
                 assert_eq!(
                     bits(tracer.closest_ray_with(ray, mask, &mut odd)),
                     bits(r.closest_ray_with::<f32x8, Watertight, StableSphere, _>(
-                        ray, mask, &mut odd2
+                        ray, mask, &mut odd
                     ))
                 );
             }
