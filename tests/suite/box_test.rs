@@ -38,7 +38,7 @@ proptest! {
         // Boxes at the decision boundary of some lane: around, or with a face through, a point
         // of that lane's ray, nudged by 0 to 2^-14 of its magnitude, some of them points or
         // flat; and empty slots.
-        let mut node = [[0.0f32; 8]; 8];
+        let mut node = [[0.0f32; 8]; 9];
         let mut t_at = [0.0f32; 8];
         for c in 0..8 {
             if rng.below(10) == 0 {

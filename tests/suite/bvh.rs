@@ -59,6 +59,22 @@ fn check_tree<L: Lanes, K: Kernel<L>>(
     let bvh = Bvh8Ref::<K::Prim>::new(tree.nodes(), tree.blocks(), tree.ids(), prims.len())
         .expect("a built or refitted tree validates");
     assert_eq!(bvh.prims(), prims.len());
+    // The same tree with other visiting orders (a different permutation per node and octant):
+    // the order is a heuristic, the answers must not depend on it.
+    let scrambled: Vec<Bvh8Node> = tree
+        .nodes()
+        .iter()
+        .enumerate()
+        .map(|(n, node)| {
+            let mut node = *node;
+            node.order = core::array::from_fn(|j| {
+                (0..8).fold(0, |w, o| w | (((j * 3 + o + n) % WIDTH) as u32) << (3 * o))
+            });
+            node
+        })
+        .collect();
+    let other = Bvh8Ref::<K::Prim>::new(&scrambled, tree.blocks(), tree.ids(), prims.len())
+        .expect("any permutation per octant validates");
     let mut batch = vec![None; rays.len()];
     closest::<L, K>(bvh, rays, &mut batch);
     let mut occ = vec![false; rays.len()];
@@ -87,6 +103,11 @@ fn check_tree<L: Lanes, K: Kernel<L>>(
                 "single, ray {ray:?}"
             );
             assert_eq!(bits(batch[k]), want, "batch, ray {ray:?}");
+            assert_eq!(
+                bits(closest_ray::<L, K>(other, ray)),
+                want,
+                "single, other order, ray {ray:?}"
+            );
             assert_eq!((tm.bitmask() >> i) & 1 == 1, want.is_some());
             if let Some(w) = want {
                 assert_eq!(Lanes::lane(tt, i).to_f32().to_bits(), w.0);
@@ -96,6 +117,11 @@ fn check_tree<L: Lanes, K: Kernel<L>>(
             assert_eq!(a, want.is_some(), "any-hit agrees with closest-hit");
             assert_eq!((any_packet >> i) & 1 == 1, a, "any packet, ray {ray:?}");
             assert_eq!(occluded_ray::<L, K>(bvh, ray), a, "any single, ray {ray:?}");
+            assert_eq!(
+                occluded_ray::<L, K>(other, ray),
+                a,
+                "any single, other order"
+            );
             assert_eq!(occ[k], a, "occluded batch, ray {ray:?}");
         }
     }
@@ -623,6 +649,17 @@ fn bad_trees_are_rejected_not_traversed() {
         BvhError::BadLeaf { node: 0 }
     );
     n.child[0] = 0;
+    // A visiting order that names a slot twice for one octant, or sets the reserved top bits.
+    let mut twice = n;
+    twice.order[1] &= !(7 << 9); // octant 3 visits slot 0 first and second
+    let mut top = n;
+    top.order[7] |= 1 << 24;
+    for bad in [twice, top] {
+        assert_eq!(
+            R::new(&[bad], &blocks, &ids, 1).unwrap_err(),
+            BvhError::BadOrder { node: 0 }
+        );
+    }
     for a in 0..3 {
         (n.lo[a][0], n.hi[a][0]) = (-1.0, 2.0);
     }

@@ -330,6 +330,7 @@ impl<P: Primitive> Bvh8<P> {
                         work.push((k, nodes.len() - 1, depth + 1));
                     }
                 }
+                node.set_order();
                 nodes[w] = node;
             }
         }
@@ -504,6 +505,7 @@ pub(crate) fn refit_parts<P: Primitive + Sync, J: Join>(
             all = all.union(bx);
         }
         raw[n] = all;
+        node.set_order();
         nodes[n] = node;
     }
     Ok(())

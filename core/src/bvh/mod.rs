@@ -2,7 +2,8 @@
 //! validation of untrusted trees. The walks over it are `octoray-packet`'s `scene` module.
 //!
 //! - [`Bvh8Node`]: one node, eight children's boxes in SoA (`lo[axis][child]`,
-//!   `hi[axis][child]`, f32) and their references; 256 bytes, `bytemuck::Pod`.
+//!   `hi[axis][child]`, f32), their references and their visiting order for each ray-direction
+//!   octant; 288 bytes, `bytemuck::Pod`.
 //! - [`Bvh8`] (feature `alloc`): the owned tree, built by top-down binned SAH ([`Bvh8::build`]),
 //!   optionally with spatial splits ([`BuildOptions::SPATIAL`], [`Bvh8::try_build_options`]).
 //! - [`Bvh8Ref`]: the same tree as three borrowed slices (nodes, the primitives in leaf order in
@@ -79,6 +80,12 @@ pub const PAD: u32 = u32::MAX;
 /// its index in the node slice, always greater than this node's); a leaf of `count[i]`
 /// primitives starting at block slot `child[i]` (a multiple of [`BLOCK`]) otherwise. Used slots
 /// come first. Boxes are already widened by the build slack.
+///
+/// `order` lists the slots near-first for each direction octant `o` (bit `k` of `o` set when
+/// the direction's component `k` is negative): bits `3·o .. 3·o + 3` of `order[j]` hold the
+/// slot visited `j`-th, a permutation of `0..8` per octant (empty slots last), bits 24–31 are
+/// 0. It is a heuristic for speed ([`Bvh8Node::set_order`]); any permutation gives the same
+/// answers.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Bvh8Node {
@@ -90,6 +97,8 @@ pub struct Bvh8Node {
     pub child: [u32; WIDTH],
     /// 0 for an inner node, else the leaf's primitive count, per slot.
     pub count: [u32; WIDTH],
+    /// The slots' visiting order per direction octant, 3 bits each (above).
+    pub order: [u32; WIDTH],
 }
 
 impl Bvh8Node {
@@ -99,7 +108,59 @@ impl Bvh8Node {
         hi: [[f32::NEG_INFINITY; WIDTH]; 3],
         child: [EMPTY; WIDTH],
         count: [0; WIDTH],
+        order: IDENTITY_ORDER,
     };
+
+    /// Sets `order` from the boxes: for octant `o`, slots by the position of their box's centre
+    /// along the octant's diagonal (the direction with component `k` negative where bit `k` of
+    /// `o` is set, positive elsewhere), nearest first; ties in slot order, empty slots and NaN
+    /// keys last.
+    pub fn set_order(&mut self) {
+        let mut order = [0u32; WIDTH];
+        for o in 0..8 {
+            let key = |s: usize| {
+                let k: f32 = (0..3)
+                    .map(|a| {
+                        let c = self.lo[a][s] + self.hi[a][s];
+                        if o >> a & 1 == 1 {
+                            -c
+                        } else {
+                            c
+                        }
+                    })
+                    .sum();
+                let empty = self.child[s] == EMPTY;
+                (empty || k.is_nan(), if k.is_nan() { 0.0 } else { k })
+            };
+            let mut slots: [usize; WIDTH] = core::array::from_fn(|s| s);
+            // Insertion sort: stable, so ties keep slot order.
+            for i in 1..WIDTH {
+                let mut j = i;
+                while j > 0
+                    && key(slots[j]).partial_cmp(&key(slots[j - 1]))
+                        == Some(core::cmp::Ordering::Less)
+                {
+                    slots.swap(j, j - 1);
+                    j -= 1;
+                }
+            }
+            for (j, &s) in slots.iter().enumerate() {
+                order[j] |= (s as u32) << (3 * o);
+            }
+        }
+        self.order = order;
+    }
+
+    /// True when `order` is a permutation of the slots for every octant, its top bits clear.
+    fn order_is_valid(&self) -> bool {
+        (0..8).all(|o| {
+            let seen = self
+                .order
+                .iter()
+                .fold(0u32, |m, &w| m | 1 << (w >> (3 * o) & 7));
+            seen == 0xff
+        }) && self.order.iter().all(|&w| w >> 24 == 0)
+    }
 
     /// Number of used slots.
     #[inline(always)]
@@ -113,6 +174,21 @@ impl Bvh8Node {
         self.child[0] == EMPTY
     }
 }
+
+/// Every octant's order the identity (slot `j` visited `j`-th).
+const IDENTITY_ORDER: [u32; WIDTH] = {
+    let mut order = [0; WIDTH];
+    let mut j = 0;
+    while j < WIDTH {
+        let mut o = 0;
+        while o < 8 {
+            order[j] |= (j as u32) << (3 * o);
+            o += 1;
+        }
+        j += 1;
+    }
+    order
+};
 
 /// Why a set of slices is not a valid tree.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -129,6 +205,12 @@ pub enum BvhError {
     /// cycle, a node out of order or out of range), or a used slot follows an empty one.
     BadNodeRef {
         /// The node holding the slot.
+        node: usize,
+    },
+    /// A node's `order` is not a permutation of its slots for some octant, or has its top bits
+    /// set.
+    BadOrder {
+        /// The node.
         node: usize,
     },
     /// A leaf's primitive range is not the next one in build order, or lies outside the blocks.
@@ -181,6 +263,12 @@ impl core::fmt::Display for BvhError {
                 write!(f, "{blocks} block rows do not hold {ids} indices")
             }
             BvhError::BadNodeRef { node } => write!(f, "node {node} refers to a bad child node"),
+            BvhError::BadOrder { node } => {
+                write!(
+                    f,
+                    "node {node} has a visiting order that is not a permutation"
+                )
+            }
             BvhError::BadLeaf { node } => {
                 write!(
                     f,
@@ -296,6 +384,9 @@ impl<'a, P: Primitive> Bvh8Ref<'a, P> {
                 let used = node.len();
                 if node.child[used..].iter().any(|&c| c != EMPTY) {
                     return Err(bad_node);
+                }
+                if !node.order_is_valid() {
+                    return Err(BvhError::BadOrder { node: n as usize });
                 }
                 for s in 0..used {
                     let (c, k) = (node.child[s] as usize, node.count[s] as usize);

@@ -3,10 +3,11 @@
 
 use super::masks::{check_masks, RayMasks};
 use crate::tree::epilog::{bound, Best, PacketBest};
+use crate::tree::single::trace_single;
 use crate::tree::slab::BoxRay;
 use crate::tree::walk::{
-    closest_slice, occluded_slice, packet_result, packet_walk, run_packet, run_single,
-    trace_single, Leaf, Members, UNPLACED,
+    closest_slice, occluded_slice, packet_result, packet_walk, run_packet, run_single, Leaf,
+    Members, UNPLACED,
 };
 use arrayvec::ArrayVec;
 use octoray_core::bvh::Bvh8Ref;

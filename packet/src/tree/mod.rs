@@ -4,7 +4,7 @@
 //!
 //! | call | rays | how |
 //! |---|---|---|
-//! | [`closest_ray`], [`occluded_ray`] | one | one `f32x8` box test per node (its eight children, on the entry and exit faces picked once per ray); closest hit visits children near-first, occlusion in any order; leaves tested a SoA block of [`BLOCK`] primitives at a time |
+//! | [`closest_ray`], [`occluded_ray`] | one | one `f32x8` box test per node (its eight children, on the entry and exit faces picked once per ray); the children hit gathered with one shuffle in the node's order for the ray's direction octant ([`Bvh8Node::order`](octoray_core::bvh::Bvh8Node::order)), the first visited next and the rest kept as one stack entry; closest hit in that near-first order, occlusion from the last slot down; leaves tested a SoA block of [`BLOCK`] primitives at a time |
 //! | [`closest_packet`], [`closest_t_packet`], [`occluded_packet`] | `L::LANES` | the packet's active mask goes down the tree together, children visited near-first by the packet's entry distance (occlusion: in any order); a coherent f32 packet (one direction octant) first tests a node's eight boxes against its frustum in one `f32x8` test and lane by lane only the children that pass; a packet of 16, or of 8 without a frustum, continues ray by ray below a node that at most 2 of its lanes reach (hybrid traversal); a coherent packet of 8 stays a packet to the end |
 //! | [`closest`], [`occluded`] | any slice | packets where a packet's rays share a direction octant (coherent), single rays elsewhere |
 //!
@@ -53,6 +53,7 @@ use octoray_core::{
 };
 
 pub(crate) mod epilog;
+pub(crate) mod single;
 #[doc(hidden)]
 pub mod slab;
 pub(crate) mod walk;

@@ -268,7 +268,7 @@ impl Frustum {
     /// by every valid lane within `[t_min, t_max]`; `t_max` at least every live lane's (NaN: no
     /// bound).
     #[inline(always)]
-    pub fn children(&self, rows: &[[f32; 8]; 8], t_max: f32) -> u32 {
+    pub fn children(&self, rows: &[[f32; 8]; 9], t_max: f32) -> u32 {
         use wide::f32x8;
         let (mut near, mut far) = (f32x8::splat(self.t_min), f32x8::splat(t_max));
         for k in 0..3 {

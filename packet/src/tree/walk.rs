@@ -2,7 +2,8 @@
 //! [`Leaf`]: test primitives ([`Prims`], here) or enter instances (the scene's top level).
 
 use super::epilog::{accepts, better, bound, Best, PacketBest};
-use super::slab::{extreme_lane, slab, slab_planes, BoxRay, Frustum};
+use super::single::{trace_single, trace_single_outlined};
+use super::slab::{extreme_lane, slab, BoxRay, Frustum};
 use arrayvec::ArrayVec;
 use octoray_core::bvh::{Bvh8Node, Bvh8Ref, STACK, WIDTH};
 use octoray_core::hit::{barycentrics, AcceptAll, Hit, HitFilter};
@@ -282,7 +283,7 @@ struct Entry<N> {
 
 /// `t` rounded to f32 and moved up by an ulp: an f32 box bound no smaller than `t`.
 #[inline(always)]
-fn f32_bound<S: Scalar>(t: S) -> f32 {
+pub(crate) fn f32_bound<S: Scalar>(t: S) -> f32 {
     let x = t.to_f32();
     if x.is_nan() {
         x
@@ -291,211 +292,12 @@ fn f32_bound<S: Scalar>(t: S) -> f32 {
     }
 }
 
-/// One valid ray (`rl`, broadcast to every lane; `br.valid` set) down the tree of `nodes` from
-/// stack entry `start`, its leaves handled by `leaf`. `best` carries the hit so far in and the
-/// final one out. With `ANY`, returns at the first hit (`true`).
-///
-/// Each node's eight boxes are tested at once on the entry and exit faces picked once per ray
-/// ([`slab_planes`]). For the closest hit, the nearest child hit is visited next without a
-/// stack round trip and the others are pushed farthest first; occlusion needs no order and
-/// pushes them as they come (the order affects speed only, never the answer).
-#[allow(clippy::too_many_arguments)] // the walk's state, passed down once per ray
-#[inline(always)]
-pub(crate) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
-    nodes: &[Bvh8Node],
-    leaf: &T,
-    pre: &T::Pre,
-    rl: &RayLanes<L>,
-    br: &BoxRay<f32x8>,
-    start: (u32, u32),
-    best: &mut Option<Best<L::Scalar>>,
-    filter: &mut F,
-    ray_id: u32,
-) -> bool {
-    // Node tests use `slab_planes`, which leaves `valid` to the caller: every caller passes a
-    // valid ray.
-    debug_assert!(br.valid.all());
-    let t_max = rl.t_max.lane(0);
-    // A node's rows as `[[f32; 8]; 8]`: lo x, y, z, hi x, y, z, then child and count bits.
-    // Per axis, the entry face's row and the exit face's.
-    let face = |k: usize| {
-        if br.neg[k].any() {
-            (3 + k, k)
-        } else {
-            (k, 3 + k)
-        }
-    };
-    let (fx, fy, fz) = (face(0), face(1), face(2));
-    // Capacity STACK is what a validated tree can need, so pushes never fail.
-    let mut stack = ArrayVec::<Entry<f32>, STACK>::new();
-    let mut cur = Some(Entry {
-        child: start.0,
-        count: start.1,
-        near: f32::NEG_INFINITY,
-    });
-    // The kernels' `t_max` ([`bound`]: the best hit's `t` loosened) and the box tests' bound.
-    let mut t_bound = bound(t_max, best);
-    let mut cull = f32_bound(t_bound);
-    loop {
-        let e = match cur.take() {
-            Some(e) => e,
-            None => match stack.pop() {
-                Some(e) if e.near > cull => continue,
-                Some(e) => e,
-                None => break,
-            },
-        };
-        if e.count > 0 {
-            let found = leaf.single::<F, ANY>(
-                pre,
-                e.child as usize,
-                e.count as usize,
-                rl,
-                best,
-                &mut t_bound,
-                filter,
-                ray_id,
-            );
-            if ANY && found {
-                return true;
-            }
-            cull = f32_bound(t_bound);
-            continue;
-        }
-        let node = &nodes[e.child as usize];
-        let rows: &[[f32; WIDTH]; 8] = bytemuck::cast_ref(node);
-        let row = |i: usize| f32x8::from(rows[i]);
-        let (mask, near) = slab_planes(
-            V3::new(row(fx.0), row(fy.0), row(fz.0)),
-            V3::new(row(fx.1), row(fy.1), row(fz.1)),
-            br,
-            f32x8::splat(cull),
-        );
-        // Empty slots never enter the walk, whatever their boxes hold: one mask, off the slab
-        // test's latency chain, instead of a branch per pushed child.
-        let mut bits = mask.bitmask() & !empty_slots(rows);
-        if bits == 0 {
-            continue;
-        }
-        let near = near.to_array();
-        let entry = |s: usize| Entry {
-            child: node.child[s],
-            count: node.count[s],
-            near: near[s],
-        };
-        if bits & (bits - 1) == 0 {
-            // One child: visit it next.
-            cur = Some(entry(bits.trailing_zeros() as usize));
-            continue;
-        }
-        // Several. Closest hit: of two, the nearer goes next and the other onto the stack (no
-        // loop); of three or four, a sorting network orders them; more are sorted by insertion.
-        // Occlusion needs no order: slot order.
-        if !ANY && (bits & (bits - 1)).count_ones() == 1 {
-            let (a, b) = (
-                bits.trailing_zeros() as usize,
-                31 - bits.leading_zeros() as usize,
-            );
-            let (near_s, far_s) = if near[b] < near[a] { (b, a) } else { (a, b) };
-            stack.push(entry(far_s));
-            cur = Some(entry(near_s));
-            continue;
-        }
-        // Three or four (most of the rest): a sorting network of branch-free compare-exchanges
-        // on (entry distance, slot) packed in one integer, nearest first; the nearest goes next,
-        // the others onto the stack farthest first.
-        let n = bits.count_ones() as usize;
-        if !ANY && n <= 4 {
-            let mut keys = [u64::MAX; 4];
-            for key in &mut keys {
-                let s = bits.trailing_zeros() as usize & (WIDTH - 1);
-                if bits != 0 {
-                    *key = sort_key(near[s], s);
-                }
-                bits &= bits.wrapping_sub(1);
-            }
-            // Three: the fourth key is the largest and stays last (one network, no branch on n).
-            for (a, b) in [(0, 1), (2, 3), (0, 2), (1, 3), (1, 2)] {
-                let (lo, hi) = (keys[a].min(keys[b]), keys[a].max(keys[b]));
-                (keys[a], keys[b]) = (lo, hi);
-            }
-            let slot = |k: u64| (k as usize) & (WIDTH - 1);
-            if n == 4 {
-                stack.push(entry(slot(keys[3])));
-            }
-            stack.push(entry(slot(keys[2])));
-            stack.push(entry(slot(keys[1])));
-            cur = Some(entry(slot(keys[0])));
-            continue;
-        }
-        if ANY {
-            // Occlusion: slot order from the last slot down, the last visited next.
-            let last = 31 - bits.leading_zeros() as usize;
-            bits &= !(1 << last);
-            while bits != 0 {
-                stack.push(entry(bits.trailing_zeros() as usize));
-                bits &= bits - 1;
-            }
-            cur = Some(entry(last));
-            continue;
-        }
-        // More: slot indices sorted in a local array by entry distance, farthest first, then
-        // pushed.
-        let mut order = [0u8; WIDTH];
-        let mut n = 0;
-        while bits != 0 {
-            let s = bits.trailing_zeros() as usize;
-            bits &= bits - 1;
-            let mut j = n;
-            while j > 0 && near[order[j - 1] as usize] < near[s] {
-                order[j] = order[j - 1];
-                j -= 1;
-            }
-            order[j] = s as u8;
-            n += 1;
-        }
-        for &s in &order[..n] {
-            stack.push(entry(s as usize));
-        }
-        cur = stack.pop();
-    }
-    false
-}
-
-/// [`trace_single`] as a call of its own: the packet walk's switch to single rays, which would
-/// otherwise inline the whole single-ray walk into the packet walk's loop.
-#[allow(clippy::too_many_arguments)] // as `trace_single`
-#[inline(never)]
-fn trace_single_outlined<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
-    nodes: &[Bvh8Node],
-    leaf: &T,
-    pre: &T::Pre,
-    rl: &RayLanes<L>,
-    br: &BoxRay<f32x8>,
-    start: (u32, u32),
-    best: &mut Option<Best<L::Scalar>>,
-    filter: &mut F,
-    ray_id: u32,
-) -> bool {
-    trace_single::<L, T, F, ANY>(nodes, leaf, pre, rl, br, start, best, filter, ray_id)
-}
-
 /// Bit `s` set where slot `s` of a node (its rows: lo x, y, z, hi x, y, z, child, count) is
 /// empty: `child == EMPTY` is a validated tree's only child reference with its sign bit set, so
 /// one movemask of the child row finds them all.
 #[inline(always)]
-fn empty_slots(rows: &[[f32; WIDTH]; 8]) -> u32 {
+fn empty_slots(rows: &[[f32; WIDTH]; 9]) -> u32 {
     f32x8::from(rows[6]).to_bitmask()
-}
-
-/// `near` (not NaN) and slot `s` as one integer ordered as `near`, then `s`: the `f32`'s bits
-/// mapped to an order-preserving `u32` (negative values' bits inverted, positive values' sign
-/// bit set) above the slot.
-#[inline(always)]
-fn sort_key(near: f32, s: usize) -> u64 {
-    let b = near.to_bits();
-    let ordered = if b >> 31 == 1 { !b } else { b | (1 << 31) };
-    (u64::from(ordered) << 32) | s as u64
 }
 
 /// One ray through geometry `bvh` (hits reported as geometry `geom` of instance `inst`) from

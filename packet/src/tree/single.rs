@@ -1,0 +1,210 @@
+//! The walk of one ray: children tested eight at once, ordered by the node's order for the
+//! ray's direction octant, the hit ones left-packed and kept as one stack entry.
+
+use super::epilog::{bound, Best};
+use super::slab::{slab_planes, BoxRay};
+use super::walk::{f32_bound, Leaf};
+use arrayvec::ArrayVec;
+use octoray_core::bvh::{Bvh8Node, MAX_DEPTH, WIDTH};
+use octoray_core::hit::HitFilter;
+use octoray_core::lanes::{Lanes, V3};
+use octoray_core::prim::RayLanes;
+use wide::{f32x8, i32x8, u32x8};
+
+/// The children of one node that a ray enters and has not visited yet, near-first from
+/// `next` to `len`: one stack entry of the walk (aligned, so that each row is one store).
+#[derive(Clone, Copy)]
+#[repr(C, align(32))]
+struct Siblings {
+    child: [u32; WIDTH],
+    count: [u32; WIDTH],
+    near: [f32; WIDTH],
+    next: u32,
+    len: u32,
+}
+
+/// `LEFT_PACK[m]`: the positions of the bits set in `m`, in increasing order, then 0s: the
+/// shuffle that moves the lanes `m` selects to the front.
+static LEFT_PACK: [[u32; WIDTH]; 256] = {
+    let mut t = [[0; WIDTH]; 256];
+    let mut m = 0;
+    while m < 256 {
+        let (mut i, mut n) = (0, 0);
+        while i < WIDTH {
+            if m >> i & 1 == 1 {
+                t[m][n] = i as u32;
+                n += 1;
+            }
+            i += 1;
+        }
+        m += 1;
+    }
+    t
+};
+
+/// The children of `node` that the ray enters (the slab test's `hit` lanes, empty slots
+/// excluded), near-first for octant `octant`: (how many, children, counts, entry distances).
+///
+/// The node's order for the octant permutes the hit mask; the left-pack table turns the
+/// permuted mask into the shuffle that gathers the hit children in that order (one index
+/// vector, then one shuffle per row).
+///
+/// Without `near_first` (occlusion, where any order finds a hit) the order is the slots from the
+/// last down: it finds an occluder in fewer steps than the octant order (`docs/notes/speed.md`).
+#[inline(always)]
+fn ordered(
+    node: &Bvh8Node,
+    hit: u32x8,
+    near: f32x8,
+    octant: u32,
+    near_first: bool,
+) -> (u32, u32x8, u32x8, f32x8) {
+    let order = if near_first {
+        (u32x8::new(node.order).unbounded_shr_scalar(3 * octant)) & u32x8::splat(7)
+    } else {
+        u32x8::new([7, 6, 5, 4, 3, 2, 1, 0])
+    };
+    let bits = hit.shuffle(order).to_bitmask();
+    let idx = order.shuffle(u32x8::new(LEFT_PACK[bits as usize & 0xff]));
+    let bits = hit.to_bitmask();
+    (
+        bits.count_ones(),
+        u32x8::new(node.child).shuffle(idx),
+        u32x8::new(node.count).shuffle(idx),
+        near.shuffle(idx),
+    )
+}
+
+/// One valid ray (`rl`, broadcast to every lane; `br.valid` set) down the tree of `nodes` from
+/// the slot reference `start` (child, count), its leaves handled by `leaf`. `best` carries the
+/// hit so far in and the final one out. With `ANY`, returns at the first accepted hit (`true`).
+///
+/// Each node's eight boxes are tested at once on the entry and exit faces picked once per ray
+/// ([`slab_planes`]). One child hit: it is visited next. More: they are gathered in the node's
+/// order for the ray's octant ([`Bvh8Node::order`]; occlusion: the last slot first), the first visited
+/// next and the others kept as one stack entry; a popped child whose entry lies beyond the
+/// best hit is skipped. The order affects speed only, never the answer.
+#[allow(clippy::too_many_arguments)] // the walk's state, passed down once per ray
+#[inline(always)]
+pub(crate) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
+    nodes: &[Bvh8Node],
+    leaf: &T,
+    pre: &T::Pre,
+    rl: &RayLanes<L>,
+    br: &BoxRay<f32x8>,
+    start: (u32, u32),
+    best: &mut Option<Best<L::Scalar>>,
+    filter: &mut F,
+    ray_id: u32,
+) -> bool {
+    // Node tests use `slab_planes`, which leaves `valid` to the caller: every caller passes a
+    // valid ray.
+    debug_assert!(br.valid.all());
+    let t_max = rl.t_max.lane(0);
+    // Per axis, the entry face's row (0–2 lower, 3–5 upper) and the exit face's, and the octant.
+    let neg = [br.neg[0].any(), br.neg[1].any(), br.neg[2].any()];
+    let face = |k: usize| if neg[k] { (3 + k, k) } else { (k, 3 + k) };
+    let (fx, fy, fz) = (face(0), face(1), face(2));
+    let octant = neg[0] as u32 | (neg[1] as u32) << 1 | (neg[2] as u32) << 2;
+    // One entry per level holding siblings: a validated tree is at most MAX_DEPTH deep, so
+    // pushes never fail.
+    let mut stack = ArrayVec::<Siblings, { MAX_DEPTH + 1 }>::new();
+    let (mut child, mut count) = start;
+    // The kernels' `t_max` ([`bound`]: the best hit's `t` loosened) and the box tests' bound.
+    let mut t_bound = bound(t_max, best);
+    let mut cull = f32_bound(t_bound);
+    // The bound popped entries are tested against: `cull`, or +inf where it is NaN (a NaN
+    // `t_max`): the pop culls nothing then.
+    let pop_bound = |cull: f32| if cull.is_nan() { f32::INFINITY } else { cull };
+    let mut pop_cull = pop_bound(cull);
+    'walk: loop {
+        if count > 0 {
+            let found = leaf.single::<F, ANY>(
+                pre,
+                child as usize,
+                count as usize,
+                rl,
+                best,
+                &mut t_bound,
+                filter,
+                ray_id,
+            );
+            if ANY && found {
+                return true;
+            }
+            cull = f32_bound(t_bound);
+            pop_cull = pop_bound(cull);
+        } else {
+            let node = &nodes[child as usize];
+            let rows: &[[f32; WIDTH]; 9] = bytemuck::cast_ref(node);
+            let row = |i: usize| f32x8::from(rows[i]);
+            let (mask, near) = slab_planes(
+                V3::new(row(fx.0), row(fy.0), row(fz.0)),
+                V3::new(row(fx.1), row(fy.1), row(fz.1)),
+                br,
+                f32x8::splat(cull),
+            );
+            // Empty slots never enter the walk, whatever their boxes hold: `EMPTY` is a
+            // validated tree's only child reference with its sign bit set.
+            let empty: u32x8 = bytemuck::cast(bytemuck::cast::<_, i32x8>(node.child) >> 31);
+            let hit = mask.to_bits() & !empty;
+            let bits = hit.to_bitmask();
+            if bits & bits.wrapping_sub(1) == 0 {
+                if bits != 0 {
+                    // One child: visit it next.
+                    let s = bits.trailing_zeros() as usize & (WIDTH - 1);
+                    (child, count) = (node.child[s], node.count[s]);
+                    continue;
+                }
+            } else {
+                let (len, c, k, n) = ordered(node, hit, near, octant, !ANY);
+                let (c, k) = (c.to_array(), k.to_array());
+                (child, count) = (c[0], k[0]);
+                stack.push(Siblings {
+                    child: c,
+                    count: k,
+                    near: n.to_array(),
+                    next: 1,
+                    len,
+                });
+                continue;
+            }
+        }
+        // Pop the next sibling that the ray enters before its best hit.
+        loop {
+            let Some(top) = stack.last_mut() else {
+                break 'walk;
+            };
+            let i = top.next as usize & (WIDTH - 1);
+            let (c, k, near) = (top.child[i], top.count[i], top.near[i]);
+            top.next += 1;
+            if top.next == top.len {
+                stack.pop();
+            }
+            // Occlusion's bound never moves: every child on the stack passed it already.
+            if ANY || near <= pop_cull {
+                (child, count) = (c, k);
+                break;
+            }
+        }
+    }
+    false
+}
+
+/// [`trace_single`] as a call of its own: the packet walk's switch to single rays, which would
+/// otherwise inline the whole single-ray walk into the packet walk's loop.
+#[allow(clippy::too_many_arguments)] // as `trace_single`
+#[inline(never)]
+pub(crate) fn trace_single_outlined<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
+    nodes: &[Bvh8Node],
+    leaf: &T,
+    pre: &T::Pre,
+    rl: &RayLanes<L>,
+    br: &BoxRay<f32x8>,
+    start: (u32, u32),
+    best: &mut Option<Best<L::Scalar>>,
+    filter: &mut F,
+    ray_id: u32,
+) -> bool {
+    trace_single::<L, T, F, ANY>(nodes, leaf, pre, rl, br, start, best, filter, ray_id)
+}
