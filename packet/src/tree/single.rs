@@ -12,13 +12,12 @@ use octoray_core::prim::RayLanes;
 use wide::{f32x8, i32x8, u32x8};
 
 /// The children of one node that a ray enters and has not visited yet, near-first from
-/// `next` to `len`: one stack entry of the walk (aligned, so that each row is one store).
+/// `next` to `len`: one stack entry of the walk (each row one vector store).
 #[derive(Clone, Copy)]
-#[repr(C, align(32))]
 struct Siblings {
-    child: [u32; WIDTH],
-    count: [u32; WIDTH],
-    near: [f32; WIDTH],
+    child: u32x8,
+    count: u32x8,
+    near: f32x8,
     next: u32,
     len: u32,
 }
@@ -158,12 +157,11 @@ pub(crate) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
                 }
             } else {
                 let (len, c, k, n) = ordered(node, hit, near, octant, !ANY);
-                let (c, k) = (c.to_array(), k.to_array());
-                (child, count) = (c[0], k[0]);
+                (child, count) = (c.as_array()[0], k.as_array()[0]);
                 stack.push(Siblings {
                     child: c,
                     count: k,
-                    near: n.to_array(),
+                    near: n,
                     next: 1,
                     len,
                 });
@@ -176,7 +174,11 @@ pub(crate) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
                 break 'walk;
             };
             let i = top.next as usize & (WIDTH - 1);
-            let (c, k, near) = (top.child[i], top.count[i], top.near[i]);
+            let (c, k, near) = (
+                top.child.as_array()[i],
+                top.count.as_array()[i],
+                top.near.as_array()[i],
+            );
             top.next += 1;
             if top.next == top.len {
                 stack.pop();
