@@ -155,6 +155,56 @@ fn packet_layers_import_only_downwards() {
     assert!(rust_files(&src).len() >= 4, "packet/src has its layers");
 }
 
+/// The files of `packet/src/tree/`, each with the files it may import (`super::…`): from the slab
+/// test and the best-hit record up through the leaf, the single-ray walk, the packet walk and the
+/// slice loops to the calls. A cycle between them cannot return.
+const TREE_LAYERS: &[(&str, &[&str])] = &[
+    ("slab", &[]),
+    ("epilog", &[]),
+    ("leaf", &["epilog"]),
+    ("single", &["epilog", "leaf", "slab"]),
+    ("packet", &["epilog", "leaf", "slab", "single"]),
+    ("batch", &["epilog", "packet", "single"]),
+    ("queries", &["epilog", "leaf", "packet", "single", "batch"]),
+];
+
+/// The modules `super::` names in `src` (outside comments).
+fn super_refs(src: &str) -> Vec<String> {
+    crate_refs(&src.replace("super::", "crate::"))
+}
+
+#[test]
+fn tree_files_import_only_files_below() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("packet/src/tree");
+    let mut seen = 0;
+    for f in rust_files(&dir) {
+        let name = f.file_stem().and_then(|s| s.to_str()).expect("utf-8");
+        let text = std::fs::read_to_string(&f).expect("read");
+        if name == "mod" {
+            assert!(
+                super_refs(&text).is_empty(),
+                "packet/src/tree/mod.rs only declares the files"
+            );
+            continue;
+        }
+        let below = TREE_LAYERS
+            .iter()
+            .find(|(m, _)| *m == name)
+            .map(|(_, b)| *b)
+            .unwrap_or_else(|| {
+                panic!("packet/src/tree/{name}.rs is in no layer: add it to TREE_LAYERS")
+            });
+        for target in super_refs(&text) {
+            assert!(
+                below.contains(&target.as_str()),
+                "packet/src/tree/{name}.rs imports `super::{target}`"
+            );
+        }
+        seen += 1;
+    }
+    assert_eq!(seen, TREE_LAYERS.len(), "every layer is a file");
+}
+
 /// The parser sees through groups and skips comments.
 #[test]
 fn crate_refs_reads_groups_and_skips_comments() {

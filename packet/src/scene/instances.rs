@@ -2,13 +2,14 @@
 //! instance's object space and walk its geometry's tree ([`Instances`], a [`Leaf`]).
 
 use super::masks::{check_masks, RayMasks};
+use crate::tree::batch::{closest_slice, occluded_slice};
+use crate::tree::epilog::UNPLACED;
 use crate::tree::epilog::{bound, Best, PacketBest};
+use crate::tree::leaf::{Leaf, Members};
+use crate::tree::packet::{packet_result, packet_walk, run_packet};
+use crate::tree::single::run_single;
 use crate::tree::single::trace_single;
 use crate::tree::slab::BoxRay;
-use crate::tree::walk::{
-    closest_slice, occluded_slice, packet_result, packet_walk, run_packet, run_single, Leaf,
-    Members, UNPLACED,
-};
 use arrayvec::ArrayVec;
 use octoray_core::bvh::Bvh8Ref;
 use octoray_core::hit::{AcceptAll, Hit, HitFilter};

@@ -58,6 +58,9 @@ impl<S: Scalar> Best<S> {
     }
 }
 
+/// `Best::geom` of a hit whose geometry is found after the walk.
+pub(crate) const UNPLACED: u32 = u32::MAX;
+
 /// Does a hit at `t` on primitive `id` of instance `inst` replace `best`? Nearer `t`, or equal
 /// `t` and a lower (instance, primitive).
 #[inline(always)]
@@ -153,6 +156,17 @@ impl<L: Lanes> PacketBest<L> {
         self.inst = L::select_index(m, L::splat_index(b.inst), self.inst);
         self.cull = L::select(m, self.t.loosen(t_max), self.cull);
         self.moved = true;
-        self.unplaced |= b.geom == super::walk::UNPLACED;
+        self.unplaced |= b.geom == UNPLACED;
+    }
+}
+
+/// `t` rounded to f32 and moved up by an ulp: an f32 box bound no smaller than `t`.
+#[inline(always)]
+pub(crate) fn f32_bound<S: Scalar>(t: S) -> f32 {
+    let x = t.to_f32();
+    if x.is_nan() {
+        x
+    } else {
+        x.next_up()
     }
 }

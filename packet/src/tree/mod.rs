@@ -52,13 +52,16 @@ use octoray_core::{
     prim::BLOCK,
 };
 
+pub(crate) mod batch;
 pub(crate) mod epilog;
+pub(crate) mod leaf;
+pub(crate) mod packet;
+mod queries;
 pub(crate) mod single;
 #[doc(hidden)]
 pub mod slab;
-pub(crate) mod walk;
 
-pub use walk::{
+pub use queries::{
     closest, closest_packet, closest_packet_with, closest_ray, closest_ray_with, closest_t_packet,
     closest_with, occluded, occluded_packet, occluded_packet_with, occluded_ray, occluded_ray_with,
     occluded_with,

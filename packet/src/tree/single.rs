@@ -1,14 +1,16 @@
 //! The walk of one ray: children tested eight at once, ordered by the node's order for the
 //! ray's direction octant, the hit ones left-packed and kept as one stack entry.
 
+use super::epilog::f32_bound;
 use super::epilog::{bound, Best};
+use super::leaf::{Leaf, Members, Prims};
 use super::slab::{slab_planes, BoxRay};
-use super::walk::{f32_bound, Leaf};
 use arrayvec::ArrayVec;
-use octoray_core::bvh::{Bvh8Node, MAX_DEPTH, WIDTH};
+use octoray_core::bvh::{Bvh8Node, Bvh8Ref, MAX_DEPTH, WIDTH};
 use octoray_core::hit::HitFilter;
+use octoray_core::kernels::Kernel;
 use octoray_core::lanes::{Lanes, V3};
-use octoray_core::prim::RayLanes;
+use octoray_core::prim::{Ray, RayLanes};
 use wide::{f32x8, i32x8, u32x8};
 
 /// The children of one node that a ray enters and has not visited yet, near-first from
@@ -209,4 +211,49 @@ pub(crate) fn trace_single_outlined<L: Lanes, T: Leaf<L>, F: HitFilter, const AN
     ray_id: u32,
 ) -> bool {
     trace_single::<L, T, F, ANY>(nodes, leaf, pre, rl, br, start, best, filter, ray_id)
+}
+
+/// One ray through geometry `bvh` (hits reported as geometry `geom` of instance `inst`) from
+/// the root, `best` carried in and out: prepares the ray for [`trace_single`].
+#[allow(clippy::too_many_arguments)] // the walk's state
+#[inline(always)]
+pub(crate) fn run_single<
+    L: Lanes,
+    K: Kernel<L>,
+    F: HitFilter,
+    const ANY: bool,
+    const MANY: bool,
+>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    (geom, inst, members): (u32, u32, Members<'_>),
+    ray: &Ray,
+    best: &mut Option<Best<L::Scalar>>,
+    filter: &mut F,
+    ray_id: u32,
+) -> bool {
+    if bvh.nodes().is_empty() {
+        return false;
+    }
+    let rl = RayLanes::<L>::broadcast(ray);
+    let br = BoxRay::new(&RayLanes::<f32x8>::broadcast(ray));
+    if br.valid.none() {
+        return false;
+    }
+    let leaf = Prims::<L, K, MANY> {
+        bvh,
+        geom,
+        inst,
+        members,
+    };
+    trace_single::<L, _, F, ANY>(
+        bvh.nodes(),
+        &leaf,
+        &leaf.prepare(&rl),
+        &rl,
+        &br,
+        (0, 0),
+        best,
+        filter,
+        ray_id,
+    )
 }
