@@ -13,15 +13,15 @@ use octoray_core::lanes::{Lanes, V3};
 use octoray_core::prim::{Ray, RayLanes};
 use wide::{f32x8, i32x8, u32x8};
 
-/// The children of one node that a ray enters and has not visited yet, near-first from
-/// `next` to `len`: one stack entry of the walk (each row one vector store).
+/// The children of one node that a ray enters and has not visited yet: one stack entry of the
+/// walk (each row one vector store), the children gathered near-first, `live` the positions
+/// still to visit (never 0 on the stack).
 #[derive(Clone, Copy)]
 struct Siblings {
     child: u32x8,
     count: u32x8,
     near: f32x8,
-    next: u32,
-    len: u32,
+    live: u32,
 }
 
 /// `LEFT_PACK[m]`: the positions of the bits set in `m`, in increasing order, then 0s: the
@@ -83,8 +83,8 @@ fn ordered(
 /// Each node's eight boxes are tested at once on the entry and exit faces picked once per ray
 /// ([`slab_planes`]). One child hit: it is visited next. More: they are gathered in the node's
 /// order for the ray's octant ([`Bvh8Node::order`]; occlusion: the last slot first), the first visited
-/// next and the others kept as one stack entry; a popped child whose entry lies beyond the
-/// best hit is skipped. The order affects speed only, never the answer.
+/// next and the others kept as one stack entry; a nearer hit drops the stacked children the
+/// ray enters beyond it. The order affects speed only, never the answer.
 #[allow(clippy::too_many_arguments)] // the walk's state, passed down once per ray
 #[inline(always)]
 pub(crate) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
@@ -114,11 +114,7 @@ pub(crate) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
     // The kernels' `t_max` ([`bound`]: the best hit's `t` loosened) and the box tests' bound.
     let mut t_bound = bound(t_max, best);
     let mut cull = f32_bound(t_bound);
-    // The bound popped entries are tested against: `cull`, or +inf where it is NaN (a NaN
-    // `t_max`): the pop culls nothing then.
-    let pop_bound = |cull: f32| if cull.is_nan() { f32::INFINITY } else { cull };
-    let mut pop_cull = pop_bound(cull);
-    'walk: loop {
+    loop {
         if count > 0 {
             let found = leaf.single::<F, ANY>(
                 pre,
@@ -133,8 +129,17 @@ pub(crate) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
             if ANY && found {
                 return true;
             }
-            cull = f32_bound(t_bound);
-            pop_cull = pop_bound(cull);
+            let moved = f32_bound(t_bound);
+            if !ANY && moved != cull {
+                // A nearer hit: drop the stacked children that the ray enters beyond it, so
+                // that pops test nothing. (A NaN bound, from a NaN `t_max`, drops nothing.)
+                let keep = f32x8::splat(moved);
+                stack.retain(|s| {
+                    s.live &= !s.near.simd_gt(keep).to_bitmask();
+                    s.live != 0
+                });
+            }
+            cull = moved;
         } else {
             let node = &nodes[child as usize];
             let rows: &[[f32; WIDTH]; 9] = bytemuck::cast_ref(node);
@@ -164,32 +169,22 @@ pub(crate) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
                     child: c,
                     count: k,
                     near: n,
-                    next: 1,
-                    len,
+                    // Position 0 is visited now.
+                    live: (1 << len) - 2,
                 });
                 continue;
             }
         }
-        // Pop the next sibling that the ray enters before its best hit.
-        loop {
-            let Some(top) = stack.last_mut() else {
-                break 'walk;
-            };
-            let i = top.next as usize & (WIDTH - 1);
-            let (c, k, near) = (
-                top.child.as_array()[i],
-                top.count.as_array()[i],
-                top.near.as_array()[i],
-            );
-            top.next += 1;
-            if top.next == top.len {
-                stack.pop();
-            }
-            // Occlusion's bound never moves: every child on the stack passed it already.
-            if ANY || near <= pop_cull {
-                (child, count) = (c, k);
-                break;
-            }
+        // Pop the nearest sibling left: every one left is entered before the best hit.
+        let Some(top) = stack.last_mut() else {
+            break;
+        };
+        let live = top.live;
+        let i = live.trailing_zeros() as usize & (WIDTH - 1);
+        (child, count) = (top.child.as_array()[i], top.count.as_array()[i]);
+        top.live = live & live.wrapping_sub(1);
+        if top.live == 0 {
+            stack.pop();
         }
     }
     false
