@@ -654,6 +654,13 @@ fn bad_trees_are_rejected_not_traversed() {
     twice.order[1] &= !(7 << 9); // octant 3 visits slot 0 first and second
     let mut top = n;
     top.order[7] |= 1 << 24;
+    // An empty slot that claims primitives.
+    let mut counted = n;
+    counted.count[7] = 1;
+    assert_eq!(
+        R::new(&[counted], &blocks, &ids, 1).unwrap_err(),
+        BvhError::BadNodeRef { node: 0 }
+    );
     for bad in [twice, top] {
         assert_eq!(
             R::new(&[bad], &blocks, &ids, 1).unwrap_err(),

@@ -76,7 +76,7 @@ pub const PAD: u32 = u32::MAX;
 
 /// One node: the boxes of up to eight children in SoA, and what each child is.
 ///
-/// Slot `i` is empty when `child[i] == EMPTY`; an inner node when `count[i] == 0` (`child[i]` is
+/// Slot `i` is empty when `child[i] == EMPTY` (and `count[i] == 0`); an inner node when `count[i] == 0` (`child[i]` is
 /// its index in the node slice, always greater than this node's); a leaf of `count[i]`
 /// primitives starting at block slot `child[i]` (a multiple of [`BLOCK`]) otherwise. Used slots
 /// come first. Boxes are already widened by the build slack.
@@ -202,7 +202,8 @@ pub enum BvhError {
         ids: usize,
     },
     /// A slot refers to a node other than the next one in build order (a node named twice, a
-    /// cycle, a node out of order or out of range), or a used slot follows an empty one.
+    /// cycle, a node out of order or out of range), a used slot follows an empty one, or an
+    /// empty slot has a non-zero count.
     BadNodeRef {
         /// The node holding the slot.
         node: usize,
@@ -382,7 +383,9 @@ impl<'a, P: Primitive> Bvh8Ref<'a, P> {
                 let bad_node = BvhError::BadNodeRef { node: n as usize };
                 let bad_leaf = BvhError::BadLeaf { node: n as usize };
                 let used = node.len();
-                if node.child[used..].iter().any(|&c| c != EMPTY) {
+                if node.child[used..].iter().any(|&c| c != EMPTY)
+                    || node.count[used..].iter().any(|&k| k != 0)
+                {
                     return Err(bad_node);
                 }
                 if !node.order_is_valid() {

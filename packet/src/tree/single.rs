@@ -11,7 +11,7 @@ use octoray_core::hit::HitFilter;
 use octoray_core::kernels::Kernel;
 use octoray_core::lanes::{Lanes, V3};
 use octoray_core::prim::{Ray, RayLanes};
-use wide::{f32x8, i32x8, u32x8};
+use wide::{f32x8, u32x8};
 
 /// The children of one node that a ray enters and has not visited yet: one stack entry of the
 /// walk (each row one vector store), the children gathered near-first, `live` the positions
@@ -140,8 +140,10 @@ pub(crate) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
                 });
             }
             cull = moved;
-        } else {
-            let node = &nodes[child as usize];
+        } else if let Some(node) = nodes.get(child as usize) {
+            // An empty slot's reference, `EMPTY`, names no node (a validated tree has fewer
+            // than 2³¹): a slot whose box the ray enters though it is empty leads here and on
+            // to the next pop, so the slab test needs no empty-slot mask.
             let rows: &[[f32; WIDTH]; 9] = bytemuck::cast_ref(node);
             let row = |i: usize| f32x8::from(rows[i]);
             let (mask, near) = slab_planes(
@@ -150,10 +152,7 @@ pub(crate) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
                 br,
                 f32x8::splat(cull),
             );
-            // Empty slots never enter the walk, whatever their boxes hold: `EMPTY` is a
-            // validated tree's only child reference with its sign bit set.
-            let empty: u32x8 = bytemuck::cast(bytemuck::cast::<_, i32x8>(node.child) >> 31);
-            let hit = mask.to_bits() & !empty;
+            let hit = mask.to_bits();
             let bits = hit.to_bitmask();
             if bits & bits.wrapping_sub(1) == 0 {
                 if bits != 0 {
