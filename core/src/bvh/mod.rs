@@ -76,10 +76,10 @@ pub const PAD: u32 = u32::MAX;
 
 /// One node: the boxes of up to eight children in SoA, and what each child is.
 ///
-/// Slot `i` is empty when `child[i] == EMPTY` (and `count[i] == 0`); an inner node when `count[i] == 0` (`child[i]` is
-/// its index in the node slice, always greater than this node's); a leaf of `count[i]`
-/// primitives starting at block slot `child[i]` (a multiple of [`BLOCK`]) otherwise. Used slots
-/// come first. Boxes are already widened by the build slack.
+/// Slot `i` is empty when `child[i] == EMPTY` (and `count[i] == 0`); an inner node when
+/// `count[i] == 0` (`child[i]` is its index in the node slice, always greater than this
+/// node's); a leaf of `count[i]` primitives starting at block slot `child[i]` (a multiple of
+/// [`BLOCK`]) otherwise. Used slots come first. Boxes are already widened by the build slack.
 ///
 /// `order` lists the slots near-first for each direction octant `o` (bit `k` of `o` set when
 /// the direction's component `k` is negative): bits `3·o .. 3·o + 3` of `order[j]` hold the
@@ -129,21 +129,17 @@ impl Bvh8Node {
                         }
                     })
                     .sum();
-                let empty = self.child[s] == EMPTY;
-                (empty || k.is_nan(), if k.is_nan() { 0.0 } else { k })
+                let last = self.child[s] == EMPTY || k.is_nan();
+                (last, if k.is_nan() { 0.0 } else { k })
             };
             let mut slots: [usize; WIDTH] = core::array::from_fn(|s| s);
-            // Insertion sort: stable, so ties keep slot order.
-            for i in 1..WIDTH {
-                let mut j = i;
-                while j > 0
-                    && key(slots[j]).partial_cmp(&key(slots[j - 1]))
-                        == Some(core::cmp::Ordering::Less)
-                {
-                    slots.swap(j, j - 1);
-                    j -= 1;
-                }
-            }
+            slots.sort_unstable_by(|&a, &b| {
+                let ((la, ka), (lb, kb)) = (key(a), key(b));
+                // No NaN key is compared: those are `last` and 0.
+                la.cmp(&lb)
+                    .then(ka.partial_cmp(&kb).unwrap_or(core::cmp::Ordering::Equal))
+                    .then(a.cmp(&b))
+            });
             for (j, &s) in slots.iter().enumerate() {
                 order[j] |= (s as u32) << (3 * o);
             }

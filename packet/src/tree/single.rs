@@ -43,8 +43,9 @@ static LEFT_PACK: [[u32; WIDTH]; 256] = {
     t
 };
 
-/// The children of `node` that the ray enters (the slab test's `hit` lanes, empty slots
-/// excluded), near-first for octant `octant`: (how many, children, counts, entry distances).
+/// The children of `node` that the ray enters (the slab test's `hit` lanes; an empty slot among
+/// them leads to the next pop), near-first for octant `octant`: (how many, children, counts,
+/// entry distances).
 ///
 /// The node's order for the octant permutes the hit mask; the left-pack table turns the
 /// permuted mask into the shuffle that gathers the hit children in that order (one index
@@ -67,7 +68,6 @@ fn ordered(
     };
     let bits = hit.shuffle(order).to_bitmask();
     let idx = order.shuffle(u32x8::new(LEFT_PACK[bits as usize & 0xff]));
-    let bits = hit.to_bitmask();
     (
         bits.count_ones(),
         u32x8::new(node.child).shuffle(idx),
