@@ -316,6 +316,26 @@ pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>
     body::<L, CULL, EXACT, false>(ray, sh, tri)
 }
 
+/// What the edge test leaves for the rest of the body: the vertices relative to the origin
+/// (`a`, `b`, `c`, in the lane's axis order), the scaled barycentrics, their sum, the lanes that
+/// pass, and for the exact tier the lanes its predicates decide and the edge functions' bound.
+#[derive(Clone, Copy)]
+struct Edges<L: Lanes> {
+    a: V3<L>,
+    b: V3<L>,
+    c: V3<L>,
+    u: L,
+    v: L,
+    w: L,
+    det: L,
+    mask: L::Mask,
+    exact_lanes: L::Mask,
+    de: L,
+    de_safe: L::Mask,
+    /// The largest `|a[kz]|` of the three vertices (the unscaled depth).
+    depth: L,
+}
+
 /// The body; `PERMUTED`: `tri`'s coordinates are already in the order `sh.shared_axes`.
 #[inline(always)]
 fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
@@ -323,57 +343,68 @@ fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
     sh: &ShearedRay<L>,
     tri: &VertexLanes<L>,
 ) -> (LanesHit<L>, L::Mask) {
+    let e = edge_test::<L, CULL, EXACT, PERMUTED>(ray, sh, tri);
+    if e.mask.none() && e.exact_lanes.none() {
+        return (LanesHit::miss(e.mask), e.exact_lanes);
+    }
+    range::<L, CULL, EXACT, PERMUTED>(ray, sh, tri, e)
+}
+
+/// The bound δe on the edge functions' error and the lanes where it holds (doc above), from
+/// the vertices relative to the origin and their largest unscaled depth.
+#[inline(always)]
+fn edge_bound<L: Lanes>(sh: &ShearedRay<L>, [a, b, c]: [V3<L>; 3], depth: L) -> (L, L::Mask) {
+    let rx = max3(a.x.abs(), b.x.abs(), c.x.abs()) + sh.sx.abs() * depth;
+    let ry = max3(a.y.abs(), b.y.abs(), c.y.abs()) + sh.sy.abs() * depth;
+    let rxy = rx * ry;
+    let (lo, hi) = (L::splat(SAFE_MIN), L::splat(SAFE_MAX));
+    let safe = sh.safe & rx.min_or_rhs(ry).ge(lo) & rxy.ge(lo) & rxy.le(hi);
+    (ulps::<L>(22.0) * rxy, safe)
+}
+
+/// The edge test: which lanes' rays pass inside the triangle (the watertight tier: as computed,
+/// exact at zero; the exact tier: certified, its undecided lanes in `exact_lanes`).
+#[inline(always)]
+fn edge_test<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
+    ray: &RayLanes<L>,
+    sh: &ShearedRay<L>,
+    tri: &VertexLanes<L>,
+) -> Edges<L> {
     let zero = L::zero();
     // Vertices permuted so the ray runs along +z (kz; kx, ky keep the winding), relative to the
     // origin, then sheared so the ray runs along the z axis itself: the hit test becomes a 2D
     // point-in-triangle test at (0, 0).
     let p = |v: V3<L>| if PERMUTED { v } else { sh.permute(v) };
-    let (v0, v1, v2) = (p(tri.v0), p(tri.v1), p(tri.v2));
-    let a = v0 - sh.origin;
-    let b = v1 - sh.origin;
-    let c = v2 - sh.origin;
-    let (akx, aky, az) = (a.x, a.y, a.z);
-    let (bkx, bky, bz) = (b.x, b.y, b.z);
-    let (ckx, cky, cz) = (c.x, c.y, c.z);
-    let ax = akx - sh.sx * az;
-    let ay = aky - sh.sy * az;
-    let bx = bkx - sh.sx * bz;
-    let by = bky - sh.sy * bz;
-    let cx = ckx - sh.sx * cz;
-    let cy = cky - sh.sy * cz;
+    let a = p(tri.v0) - sh.origin;
+    let b = p(tri.v1) - sh.origin;
+    let c = p(tri.v2) - sh.origin;
+    let ax = a.x - sh.sx * a.z;
+    let ay = a.y - sh.sy * a.z;
+    let bx = b.x - sh.sx * b.z;
+    let by = b.y - sh.sy * b.z;
+    let cx = c.x - sh.sx * c.z;
+    let cy = c.y - sh.sy * c.z;
 
     // Scaled barycentrics: the 2D edge functions of (0, 0) against edges BC, CA, AB.
     let mut u = cx * by - cy * bx;
     let mut v = ax * cy - ay * cx;
     let mut w = bx * ay - by * ax;
 
-    // The bound δe on the edge functions' error (doc above); the exact tier needs it to decide the
-    // edges, the watertight tier only for the t range (then computed after the early out).
-    // The largest |a[kz]| of the three vertices (unscaled depth).
-    let depth = max3(az.abs(), bz.abs(), cz.abs());
-    let edge_bound = || {
-        let rx = max3(akx.abs(), bkx.abs(), ckx.abs()) + sh.sx.abs() * depth;
-        let ry = max3(aky.abs(), bky.abs(), cky.abs()) + sh.sy.abs() * depth;
-        let rxy = rx * ry;
-        let (lo, hi) = (L::splat(SAFE_MIN), L::splat(SAFE_MAX));
-        let safe = sh.safe & rx.min_or_rhs(ry).ge(lo) & rxy.ge(lo) & rxy.le(hi);
-        (ulps::<L>(22.0) * rxy, safe)
-    };
-
     let mut mask;
     // Lanes the exact tier decides with the exact predicates (none for the watertight tier).
     let mut exact_lanes = ray.active & !ray.active;
+    // The bound δe on the edge functions' error (doc above): the exact tier needs it to decide
+    // the edges, the watertight tier only for the t range (computed there, after the early out).
     let mut de = zero;
     let mut de_safe = exact_lanes;
+    let depth = max3(a.z.abs(), b.z.abs(), c.z.abs());
     if EXACT {
-        let (bound, safe) = edge_bound();
-        de = bound;
-        de_safe = safe;
+        (de, de_safe) = edge_bound(sh, [a, b, c], depth);
         let (hi, lo) = (max3(u, v, w), min3(u, v, w));
         let mixed = hi.gt(de) & lo.lt(-de);
         let inside = lo.gt(de) | hi.lt(-de);
-        exact_lanes = ray.active & !(safe & (mixed | inside));
-        mask = ray.active & safe & inside;
+        exact_lanes = ray.active & !(de_safe & (mixed | inside));
+        mask = ray.active & de_safe & inside;
     } else {
         // An exactly zero edge function may have the wrong sign from rounding; recompute those
         // lanes with exact products (f64 for f32 lanes) so neighbours agree on which side the ray
@@ -394,9 +425,48 @@ fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
         // face (normal against the ray) has det > 0, for every choice of axes (tested).
         mask = mask & det.gt(zero);
     }
-    if mask.none() && exact_lanes.none() {
-        return (LanesHit::miss(mask), exact_lanes);
+    Edges {
+        a,
+        b,
+        c,
+        u,
+        v,
+        w,
+        det,
+        mask,
+        exact_lanes,
+        de,
+        de_safe,
+        depth,
     }
+}
+
+/// The rest of the body on the lanes the edge test leaves: the range of `t`, decided by the
+/// certificates (and the exact stage where they cannot), the reported `t` and its box clamp.
+#[inline(always)]
+fn range<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
+    ray: &RayLanes<L>,
+    sh: &ShearedRay<L>,
+    tri: &VertexLanes<L>,
+    e: Edges<L>,
+) -> (LanesHit<L>, L::Mask) {
+    let zero = L::zero();
+    let p = |v: V3<L>| if PERMUTED { v } else { sh.permute(v) };
+    let Edges {
+        a,
+        b,
+        c,
+        u,
+        v,
+        w,
+        det,
+        mut mask,
+        exact_lanes,
+        mut de,
+        mut de_safe,
+        depth,
+    } = e;
+    let (az, bz, cz) = (a.z, b.z, c.z);
 
     // Scaled distance: the z of the hit point is the barycentric blend of the sheared z's;
     // t = N/D with the numerator's sign normalised so that D > 0.
@@ -408,7 +478,7 @@ fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
     let (t_min, t_max) = (ray.t_min, ray.t_max);
     let inf = L::splat(f32::INFINITY);
     if !EXACT {
-        (de, de_safe) = edge_bound();
+        (de, de_safe) = edge_bound(sh, [a, b, c], depth);
     }
     // max |ẑ| = |Sz|·max |a[kz]| exactly: rounding is monotone.
     let max_z = sh.sz.abs() * depth;
@@ -606,7 +676,7 @@ fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
         plane_t(
             mask & !exact_t,
             sh.origin,
-            (v0, v1, v2),
+            (p(tri.v0), p(tri.v1), p(tri.v2)),
             sh.dir,
             t_num / det,
         )
