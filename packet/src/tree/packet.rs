@@ -58,7 +58,7 @@ fn largest<L: Lanes>(x: L, m: L::Mask) -> f32 {
 /// handled by `leaf`; `best` carries the hits so far in and the best ones out. `ANY` stops
 /// lanes at their first hit.
 #[allow(clippy::too_many_arguments)] // the walk's state
-#[inline(always)]
+#[inline]
 pub(crate) fn packet_walk<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
     nodes: &[Bvh8Node],
     leaf: &T,
