@@ -186,6 +186,17 @@ impl<L: Lanes> ShearedRay<L> {
         }
     }
 
+    /// `v` in each lane's axis order; `v` itself when it was read in that order already
+    /// (`PERMUTED`, [`Permuted`]).
+    #[inline(always)]
+    fn in_axis_order<const PERMUTED: bool>(&self, v: V3<L>) -> V3<L> {
+        if PERMUTED {
+            v
+        } else {
+            self.permute(v)
+        }
+    }
+
     /// `v` in each lane's axis order, `(v[kx], v[ky], v[kz])`, by per-lane blends.
     #[inline(always)]
     fn permute(&self, v: V3<L>) -> V3<L> {
@@ -374,7 +385,7 @@ fn edge_test<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool
     // Vertices permuted so the ray runs along +z (kz; kx, ky keep the winding), relative to the
     // origin, then sheared so the ray runs along the z axis itself: the hit test becomes a 2D
     // point-in-triangle test at (0, 0).
-    let p = |v: V3<L>| if PERMUTED { v } else { sh.permute(v) };
+    let p = |v: V3<L>| sh.in_axis_order::<PERMUTED>(v);
     let a = p(tri.v0) - sh.origin;
     let b = p(tri.v1) - sh.origin;
     let c = p(tri.v2) - sh.origin;
@@ -451,7 +462,7 @@ fn range<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
     e: Edges<L>,
 ) -> (LanesHit<L>, L::Mask) {
     let zero = L::zero();
-    let p = |v: V3<L>| if PERMUTED { v } else { sh.permute(v) };
+    let p = |v: V3<L>| sh.in_axis_order::<PERMUTED>(v);
     let Edges {
         a,
         b,
