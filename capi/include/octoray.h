@@ -77,9 +77,9 @@ typedef struct OctorayHit {
   uint32_t inst;
 } OctorayHit;
 
-// Eight rays, structure of arrays. A lane with `t_min > t_max` is a miss (fill unused lanes
+// `N` rays, structure of arrays. A lane with `t_min > t_max` is a miss (fill unused lanes
 // so).
-typedef struct OctorayRay8 {
+typedef struct OctorayRays_8 {
   // Origins, x, y, z per lane.
   float org[3][8];
   // Directions, x, y, z per lane.
@@ -88,10 +88,13 @@ typedef struct OctorayRay8 {
   float t_min[8];
   // Largest accepted `t` per lane.
   float t_max[8];
-} OctorayRay8;
+} OctorayRays_8;
 
-// Eight hits, structure of arrays (a miss as in [`OctorayHit`]).
-typedef struct OctorayHit8 {
+// Eight rays, structure of arrays.
+typedef struct OctorayRays_8 OctorayRay8;
+
+// `N` hits, structure of arrays (a miss as in [`OctorayHit`]).
+typedef struct OctorayHits_8 {
   // `t` per lane.
   float t[8];
   // `u` per lane.
@@ -104,10 +107,14 @@ typedef struct OctorayHit8 {
   uint32_t geom[8];
   // Instance per lane.
   uint32_t inst[8];
-} OctorayHit8;
+} OctorayHits_8;
 
-// Sixteen rays, structure of arrays, as [`OctorayRay8`].
-typedef struct OctorayRay16 {
+// Eight hits, structure of arrays.
+typedef struct OctorayHits_8 OctorayHit8;
+
+// `N` rays, structure of arrays. A lane with `t_min > t_max` is a miss (fill unused lanes
+// so).
+typedef struct OctorayRays_16 {
   // Origins, x, y, z per lane.
   float org[3][16];
   // Directions, x, y, z per lane.
@@ -116,10 +123,13 @@ typedef struct OctorayRay16 {
   float t_min[16];
   // Largest accepted `t` per lane.
   float t_max[16];
-} OctorayRay16;
+} OctorayRays_16;
 
-// Sixteen hits, structure of arrays.
-typedef struct OctorayHit16 {
+// Sixteen rays, structure of arrays.
+typedef struct OctorayRays_16 OctorayRay16;
+
+// `N` hits, structure of arrays (a miss as in [`OctorayHit`]).
+typedef struct OctorayHits_16 {
   // `t` per lane.
   float t[16];
   // `u` per lane.
@@ -132,7 +142,10 @@ typedef struct OctorayHit16 {
   uint32_t geom[16];
   // Instance per lane.
   uint32_t inst[16];
-} OctorayHit16;
+} OctorayHits_16;
+
+// Sixteen hits, structure of arrays.
+typedef struct OctorayHits_16 OctorayHit16;
 
 #ifdef __cplusplus
 extern "C" {
@@ -256,9 +269,9 @@ enum OctorayStatus octoray_occluded(const struct OctorayScene *scene,
 // `scene` is a live scene not changed meanwhile; `rays` is valid for reading one packet,
 // `hits` for writing one.
 enum OctorayStatus octoray_closest8(const struct OctorayScene *scene,
-                                    const struct OctorayRay8 *rays,
+                                    const OctorayRay8 *rays,
                                     uint32_t mask,
-                                    struct OctorayHit8 *hits);
+                                    OctorayHit8 *hits);
 
 // The closest hits of a 16-ray SoA packet (every lane traced; an empty range is a miss).
 //
@@ -266,9 +279,9 @@ enum OctorayStatus octoray_closest8(const struct OctorayScene *scene,
 // `scene` is a live scene not changed meanwhile; `rays` is valid for reading one packet,
 // `hits` for writing one.
 enum OctorayStatus octoray_closest16(const struct OctorayScene *scene,
-                                     const struct OctorayRay16 *rays,
+                                     const OctorayRay16 *rays,
                                      uint32_t mask,
-                                     struct OctorayHit16 *hits);
+                                     OctorayHit16 *hits);
 
 // Occlusion of an 8-ray SoA packet: bit `i` of `*occluded` is lane `i`'s answer.
 //
@@ -276,7 +289,7 @@ enum OctorayStatus octoray_closest16(const struct OctorayScene *scene,
 // `scene` is a live scene not changed meanwhile; `rays` is valid for reading one packet,
 // `occluded` for writing one word.
 enum OctorayStatus octoray_occluded8(const struct OctorayScene *scene,
-                                     const struct OctorayRay8 *rays,
+                                     const OctorayRay8 *rays,
                                      uint32_t mask,
                                      uint32_t *occluded);
 
@@ -286,7 +299,7 @@ enum OctorayStatus octoray_occluded8(const struct OctorayScene *scene,
 // `scene` is a live scene not changed meanwhile; `rays` is valid for reading one packet,
 // `occluded` for writing one word.
 enum OctorayStatus octoray_occluded16(const struct OctorayScene *scene,
-                                      const struct OctorayRay16 *rays,
+                                      const OctorayRay16 *rays,
                                       uint32_t mask,
                                       uint32_t *occluded);
 

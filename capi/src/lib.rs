@@ -130,102 +130,81 @@ impl From<Option<Hit>> for OctorayHit {
     }
 }
 
-/// Eight rays, structure of arrays. A lane with `t_min > t_max` is a miss (fill unused lanes
+/// `N` rays, structure of arrays. A lane with `t_min > t_max` is a miss (fill unused lanes
 /// so).
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct OctorayRay8 {
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OctorayRays<const N: usize> {
     /// Origins, x, y, z per lane.
-    pub org: [[f32; 8]; 3],
+    pub org: [[f32; N]; 3],
     /// Directions, x, y, z per lane.
-    pub dir: [[f32; 8]; 3],
+    pub dir: [[f32; N]; 3],
     /// Smallest accepted `t` per lane.
-    pub t_min: [f32; 8],
+    pub t_min: [f32; N],
     /// Largest accepted `t` per lane.
-    pub t_max: [f32; 8],
+    pub t_max: [f32; N],
 }
 
-/// Eight hits, structure of arrays (a miss as in [`OctorayHit`]).
+/// `N` hits, structure of arrays (a miss as in [`OctorayHit`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct OctorayHit8 {
+pub struct OctorayHits<const N: usize> {
     /// `t` per lane.
-    pub t: [f32; 8],
+    pub t: [f32; N],
     /// `u` per lane.
-    pub u: [f32; 8],
+    pub u: [f32; N],
     /// `v` per lane.
-    pub v: [f32; 8],
+    pub v: [f32; N],
     /// Primitive per lane.
-    pub prim: [u32; 8],
+    pub prim: [u32; N],
     /// Geometry per lane.
-    pub geom: [u32; 8],
+    pub geom: [u32; N],
     /// Instance per lane.
-    pub inst: [u32; 8],
+    pub inst: [u32; N],
 }
 
-/// Sixteen rays, structure of arrays, as [`OctorayRay8`].
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct OctorayRay16 {
-    /// Origins, x, y, z per lane.
-    pub org: [[f32; 16]; 3],
-    /// Directions, x, y, z per lane.
-    pub dir: [[f32; 16]; 3],
-    /// Smallest accepted `t` per lane.
-    pub t_min: [f32; 16],
-    /// Largest accepted `t` per lane.
-    pub t_max: [f32; 16],
-}
-
+/// Eight rays, structure of arrays.
+pub type OctorayRay8 = OctorayRays<8>;
+/// Eight hits, structure of arrays.
+pub type OctorayHit8 = OctorayHits<8>;
+/// Sixteen rays, structure of arrays.
+pub type OctorayRay16 = OctorayRays<16>;
 /// Sixteen hits, structure of arrays.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct OctorayHit16 {
-    /// `t` per lane.
-    pub t: [f32; 16],
-    /// `u` per lane.
-    pub u: [f32; 16],
-    /// `v` per lane.
-    pub v: [f32; 16],
-    /// Primitive per lane.
-    pub prim: [u32; 16],
-    /// Geometry per lane.
-    pub geom: [u32; 16],
-    /// Instance per lane.
-    pub inst: [u32; 16],
-}
+pub type OctorayHit16 = OctorayHits<16>;
 
-/// A packet type of `N` lanes: its rays out, its hits in.
-trait Packet<const N: usize> {
-    type Hits;
-    fn ray(&self, i: usize) -> Ray;
-    fn hits(hits: [OctorayHit; N]) -> Self::Hits;
-}
-
-macro_rules! packet {
-    ($ray:ty, $hit:ident, $n:literal) => {
-        impl Packet<$n> for $ray {
-            type Hits = $hit;
-            fn ray(&self, i: usize) -> Ray {
-                let o = Vec3::new(self.org[0][i], self.org[1][i], self.org[2][i]);
-                let d = Vec3::new(self.dir[0][i], self.dir[1][i], self.dir[2][i]);
-                Ray::with_range(o, d, self.t_min[i], self.t_max[i])
-            }
-            fn hits(h: [OctorayHit; $n]) -> $hit {
-                $hit {
-                    t: h.map(|h| h.t),
-                    u: h.map(|h| h.u),
-                    v: h.map(|h| h.v),
-                    prim: h.map(|h| h.prim),
-                    geom: h.map(|h| h.geom),
-                    inst: h.map(|h| h.inst),
-                }
-            }
+impl<const N: usize> Default for OctorayRays<N> {
+    /// Every lane a miss: zero origin and direction, `t_min` 1 above `t_max` 0.
+    fn default() -> Self {
+        Self {
+            org: [[0.0; N]; 3],
+            dir: [[0.0; N]; 3],
+            t_min: [1.0; N],
+            t_max: [0.0; N],
         }
-    };
+    }
 }
-packet!(OctorayRay8, OctorayHit8, 8);
-packet!(OctorayRay16, OctorayHit16, 16);
+
+impl<const N: usize> OctorayRays<N> {
+    /// Lane `i`'s ray.
+    fn ray(&self, i: usize) -> Ray {
+        let o = Vec3::new(self.org[0][i], self.org[1][i], self.org[2][i]);
+        let d = Vec3::new(self.dir[0][i], self.dir[1][i], self.dir[2][i]);
+        Ray::with_range(o, d, self.t_min[i], self.t_max[i])
+    }
+}
+
+impl<const N: usize> From<[OctorayHit; N]> for OctorayHits<N> {
+    fn from(h: [OctorayHit; N]) -> Self {
+        Self {
+            t: h.map(|h| h.t),
+            u: h.map(|h| h.u),
+            v: h.map(|h| h.v),
+            prim: h.map(|h| h.prim),
+            geom: h.map(|h| h.geom),
+            inst: h.map(|h| h.inst),
+        }
+    }
+}
 
 /// A scene: built by the caller (geometries, instances, commit) or loaded from stored bytes.
 /// Opaque to C; create with [`octoray_scene_new`] or [`octoray_scene_load`], free with
@@ -813,12 +792,12 @@ pub unsafe extern "C" fn octoray_occluded(
 }
 
 /// One packet's closest hits at `L` lanes.
-fn closest_n<L: Lanes, const N: usize, P: Packet<N>>(
+fn closest_n<L: Lanes, const N: usize>(
     s: &OctorayScene,
     view: View<'_>,
-    p: &P,
+    p: &OctorayRays<N>,
     mask: u32,
-) -> P::Hits
+) -> OctorayHits<N>
 where
     MollerTrumbore: octoray::kernels::Kernel<L, Prim = PackedTriangle>,
     Watertight: octoray::kernels::Kernel<L, Prim = VertexTriangle>,
@@ -829,14 +808,16 @@ where
     let lanes = RayLanes::<L>::load(&rays);
     let h = traced!(s, view, |sc, KT| sc
         .closest_packet::<L, KT, StableSphere>(&lanes, mask));
-    P::hits(core::array::from_fn(|i| OctorayHit::from(h.lane(i))))
+    OctorayHits::from(core::array::from_fn::<_, N, _>(|i| {
+        OctorayHit::from(h.lane(i))
+    }))
 }
 
 /// One packet's occlusion at `L` lanes, as a lane bit mask.
-fn occluded_n<L: Lanes, const N: usize, P: Packet<N>>(
+fn occluded_n<L: Lanes, const N: usize>(
     s: &OctorayScene,
     view: View<'_>,
-    p: &P,
+    p: &OctorayRays<N>,
     mask: u32,
 ) -> u32
 where
@@ -856,12 +837,12 @@ where
 ///
 /// # Safety
 /// As theirs.
-unsafe fn closest_call<L: Lanes, const N: usize, P: Packet<N>>(
+unsafe fn closest_call<L: Lanes, const N: usize>(
     call: &str,
     scene: *const OctorayScene,
-    rays: *const P,
+    rays: *const OctorayRays<N>,
     mask: u32,
-    hits: *mut P::Hits,
+    hits: *mut OctorayHits<N>,
 ) -> OctorayStatus
 where
     MollerTrumbore: octoray::kernels::Kernel<L, Prim = PackedTriangle>,
@@ -875,7 +856,7 @@ where
         // SAFETY: the caller's contract.
         let p = unsafe { slice(rays, 1, call, "rays") }?;
         let out = null_check(hits, call, "hits")?;
-        let h = closest_n::<L, N, P>(s, s.view(call)?, &p[0], mask);
+        let h = closest_n::<L, N>(s, s.view(call)?, &p[0], mask);
         // SAFETY: non-null and, by the contract, valid for writing.
         unsafe { put(out, h) };
         Ok(())
@@ -886,10 +867,10 @@ where
 ///
 /// # Safety
 /// As theirs.
-unsafe fn occluded_call<L: Lanes, const N: usize, P: Packet<N>>(
+unsafe fn occluded_call<L: Lanes, const N: usize>(
     call: &str,
     scene: *const OctorayScene,
-    rays: *const P,
+    rays: *const OctorayRays<N>,
     mask: u32,
     occluded: *mut u32,
 ) -> OctorayStatus
@@ -905,7 +886,7 @@ where
         // SAFETY: the caller's contract.
         let p = unsafe { slice(rays, 1, call, "rays") }?;
         let out = null_check(occluded, call, "occluded")?;
-        let m = occluded_n::<L, N, P>(s, s.view(call)?, &p[0], mask);
+        let m = occluded_n::<L, N>(s, s.view(call)?, &p[0], mask);
         // SAFETY: non-null and, by the contract, valid for writing.
         unsafe { put(out, m) };
         Ok(())
@@ -925,7 +906,7 @@ pub unsafe extern "C" fn octoray_closest8(
     hits: *mut OctorayHit8,
 ) -> OctorayStatus {
     // SAFETY: the same contract.
-    unsafe { closest_call::<f32x8, 8, _>("octoray_closest8", scene, rays, mask, hits) }
+    unsafe { closest_call::<f32x8, 8>("octoray_closest8", scene, rays, mask, hits) }
 }
 
 /// The closest hits of a 16-ray SoA packet (every lane traced; an empty range is a miss).
@@ -941,7 +922,7 @@ pub unsafe extern "C" fn octoray_closest16(
     hits: *mut OctorayHit16,
 ) -> OctorayStatus {
     // SAFETY: the same contract.
-    unsafe { closest_call::<f32x16, 16, _>("octoray_closest16", scene, rays, mask, hits) }
+    unsafe { closest_call::<f32x16, 16>("octoray_closest16", scene, rays, mask, hits) }
 }
 
 /// Occlusion of an 8-ray SoA packet: bit `i` of `*occluded` is lane `i`'s answer.
@@ -957,7 +938,7 @@ pub unsafe extern "C" fn octoray_occluded8(
     occluded: *mut u32,
 ) -> OctorayStatus {
     // SAFETY: the same contract.
-    unsafe { occluded_call::<f32x8, 8, _>("octoray_occluded8", scene, rays, mask, occluded) }
+    unsafe { occluded_call::<f32x8, 8>("octoray_occluded8", scene, rays, mask, occluded) }
 }
 
 /// Occlusion of a 16-ray SoA packet: bit `i` of `*occluded` is lane `i`'s answer.
@@ -973,7 +954,7 @@ pub unsafe extern "C" fn octoray_occluded16(
     occluded: *mut u32,
 ) -> OctorayStatus {
     // SAFETY: the same contract.
-    unsafe { occluded_call::<f32x16, 16, _>("octoray_occluded16", scene, rays, mask, occluded) }
+    unsafe { occluded_call::<f32x16, 16>("octoray_occluded16", scene, rays, mask, occluded) }
 }
 
 /// Stores a committed scene as bytes: with `bytes` null, `*len` receives the size needed;
