@@ -1,5 +1,5 @@
 //! Criterion benchmarks: time per ray-primitive test (`Throughput::Elements` = rays × primitives)
-//! for every entry of `octoray_benches::speed::entries()` (our tiers at widths 1/4/8/16, the f64
+//! for every entry of `octoray_benches::kernel::speed::entries()` (our tiers at widths 1/4/8/16, the f64
 //! tier, closest and any hit, and the peers) at hit rates of 0 %, ~50 % and 100 %, plus a scaling
 //! group (64 to 65 536 primitives per query).
 //!
@@ -9,8 +9,8 @@
 #![allow(missing_docs)]
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use octoray_benches::speed::{entries, entry, Prepared, Prim};
-use octoray_benches::workload::{HitRate, Workload};
+use octoray_benches::kernel::speed::{entries, entry, Prepared, Prim};
+use octoray_benches::kernel::workload::{HitRate, Workload};
 use std::hint::black_box;
 use std::time::Duration;
 

@@ -14,8 +14,8 @@ use octoray::glam::Vec3;
 use octoray::kernels::Watertight;
 use octoray::prim::{Ray, VertexTriangle};
 use octoray::tree::closest_ray_with;
-use octoray_benches::instancing::{alpha, restart_closest};
-use octoray_benches::scenes::{
+use octoray_benches::scene::instancing::{alpha, restart_closest};
+use octoray_benches::scene::sets::{
     jittered_sphere, packets_closest, singles_any, singles_closest, sponza, SceneSet,
 };
 use octoray_testkit::trees::{bushy_chain, shared_chain};

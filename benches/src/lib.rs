@@ -1,21 +1,15 @@
-//! Shared by the criterion benchmarks, the cycle-count workloads and the trade report: the
-//! workloads (rays and primitives with a chosen hit rate), the peers, each written the way a
-//! Rust renderer would use it, and the candidate layouts measured beside the tiers.
+//! The measuring harness behind octoray's reports and criterion benchmarks, in two layers:
+//! - [`kernel`]: one ray-primitive test at a time — workloads with a chosen hit rate, every tier
+//!   and the peers' tests written the way a Rust renderer would write them, candidate layouts,
+//!   and the trade report (`benches/tradeoff.md`) as data.
+//! - [`scene`]: whole scenes — the scene sets and their rays, each system's built scene behind
+//!   one trait, the report's rows and targets as types, measurement apart from the markdown, the
+//!   chart and the counts report.
 #![deny(unsafe_code)] // allowed only in the Embree FFI shim (`embree`)
-#![allow(missing_docs)]
+#![deny(missing_docs)]
 
-pub mod candidates;
-pub mod counts;
-pub mod embree;
-pub mod instancing;
-pub mod peers;
-pub mod report;
-pub mod scene_chart;
-pub mod scene_peers;
-pub mod scenes;
-pub mod speed;
-pub mod targets;
-pub mod workload;
+pub mod kernel;
+pub mod scene;
 
 /// The CPU's model name (Linux) and the thread count, for the reports' headers.
 pub fn machine() -> String {

@@ -1,8 +1,8 @@
 //! The benchmarks measure the same work: on each workload every closest-hit entry (ours and the
 //! peers) reports the same number of rays that hit, and the any-hit entries agree with them.
 //! bvh and our culled entry skip back faces, so they may only report fewer.
-use octoray_benches::speed::{entries, Prepared, Prim, Query};
-use octoray_benches::workload::{HitRate, Workload};
+use octoray_benches::kernel::speed::{entries, Prepared, Prim, Query};
+use octoray_benches::kernel::workload::{HitRate, Workload};
 
 #[test]
 fn every_entry_finds_the_same_hits() {

@@ -4,7 +4,7 @@
 //! READMEs and the library's rustdoc must equal the report's cell, and the chart must carry every
 //! row of the report.
 
-use octoray_benches::report::{self, prose, quotes, Report};
+use octoray_benches::kernel::report::{self, prose, quotes, Report};
 use octoray_testkit::rust_files;
 use std::path::{Path, PathBuf};
 
@@ -174,8 +174,8 @@ fn every_missed_target_is_counted() {
     // `benches/counts.md` (`profile --report`) bounds every target `benches/scenes.md` shows
     // missed with both rows' counts per ray: a missed target without counts means the counts
     // report is older than the scene report.
-    use octoray_benches::counts::{reported_ratio, SCENES};
-    use octoray_benches::targets::TARGETS;
+    use octoray_benches::scene::counts::{reported_ratio, SCENES};
+    use octoray_benches::scene::targets::TARGETS;
     let scenes = std::fs::read_to_string(root().join("benches/scenes.md")).expect("scenes.md");
     let counts = std::fs::read_to_string(root().join("benches/counts.md")).expect("counts.md");
     let mut missed = 0;

@@ -36,10 +36,10 @@
 use octoray::bvh::{BuildOptions, Bvh8, Bvh8Ref, Sequential};
 use octoray::kernels::{Kernel, MollerTrumbore, Watertight};
 use octoray::prim::{PackedTriangle, Ray};
-use octoray_benches::counts::{self, Counted, Counts};
-use octoray_benches::embree::EmbreeScene;
-use octoray_benches::scene_peers::{ObvhsScene, TinyBvhScene};
-use octoray_benches::scenes::{
+use octoray_benches::scene::counts::{self, Counted, Counts};
+use octoray_benches::scene::embree::EmbreeScene;
+use octoray_benches::scene::peers::{ObvhsScene, TinyBvhScene};
+use octoray_benches::scene::sets::{
     city, jittered_sphere, open_field, packets_any, packets_closest, scanned, singles_any,
     singles_closest, sponza, terrain,
 };

@@ -15,11 +15,11 @@ use octoray::hit::Hit;
 use octoray::intersect;
 use octoray::kernels::{Exact, Watertight};
 use octoray::prim::{Ray, RayLanes, VertexTriangle};
-use octoray_benches::candidates;
-use octoray_benches::peers::TrianglePeer;
-use octoray_benches::report::{self, Report};
-use octoray_benches::speed::{entry, Prepared};
-use octoray_benches::workload::{HitRate, Workload};
+use octoray_benches::kernel::candidates;
+use octoray_benches::kernel::peers::TrianglePeer;
+use octoray_benches::kernel::report::{self, Report};
+use octoray_benches::kernel::speed::{entry, Prepared};
+use octoray_benches::kernel::workload::{HitRate, Workload};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::collections::HashMap;
@@ -48,7 +48,7 @@ struct Row {
 
 enum Accuracy {
     Ours(TriTier),
-    /// A candidate layout's test (`octoray_benches::candidates`) at its scalar twin.
+    /// A candidate layout's test (`octoray_benches::kernel::candidates`) at its scalar twin.
     Candidate(fn(&Ray, [Vec3; 3]) -> Option<f32>),
     Peer(TrianglePeer),
 }
@@ -661,7 +661,7 @@ fn main() {
     if args.len() >= 2 && args[1] == "--speed" {
         let p = workload();
         let filter = args.get(2).map(String::as_str).unwrap_or("");
-        for e in octoray_benches::speed::entries()
+        for e in octoray_benches::kernel::speed::entries()
             .iter()
             .filter(|e| e.name.contains(filter))
         {

@@ -1,9 +1,9 @@
 //! Every speed entry (our kernels at each tier and width, and the peers), runnable on a prepared
 //! workload: the one list the criterion benches, the cycle counts and the trade report share.
 
-use crate::candidates::{self, FrameTriangle, PlaneTriangle};
-use crate::peers;
-use crate::workload::Workload;
+use crate::kernel::candidates::{self, FrameTriangle, PlaneTriangle};
+use crate::kernel::peers;
+use crate::kernel::workload::Workload;
 use glam::Vec3A;
 use octoray::kernels::{
     Exact, Kernel, MollerTrumbore, MollerTrumboreCulled, NaiveSphere, StableSphere, Watertight,
@@ -17,21 +17,34 @@ use wide::{f64x4, f64x8};
 
 /// A workload in every layout the entries read, prepared once.
 pub struct Prepared {
+    /// The workload itself.
     pub w: Workload,
+    /// Its triangles in the standard tier's layout.
     pub packed: Vec<PackedTriangle>,
+    /// Its triangles as vertices (watertight and exact tiers).
     pub vertex: Vec<VertexTriangle>,
+    /// Its triangles as three planes (candidate layout).
     pub planes: Vec<PlaneTriangle>,
+    /// Its triangles as a frame (candidate layout).
     pub frames: Vec<FrameTriangle>,
+    /// Its spheres.
     pub spheres: Vec<PackedSphere>,
+    /// Its triangles for the glam peer.
     pub glam: Vec<[Vec3A; 3]>,
+    /// Its rays in 8-ray packets for the ultraviolet peer: origins, directions.
     pub uv_rays: Vec<(ultraviolet::Vec3x8, ultraviolet::Vec3x8)>,
+    /// Its triangles for the ultraviolet peer.
     pub uv_tris: Vec<[ultraviolet::Vec3; 3]>,
+    /// Its triangles for obvhs.
     pub obvhs: Vec<obvhs::triangle::Triangle>,
+    /// Its triangles for the `bvh` crate.
     pub bvh: Vec<[nalgebra::Point3<f32>; 3]>,
+    /// Its triangles for parry3d.
     pub parry: Vec<parry3d::shape::Triangle>,
 }
 
 impl Prepared {
+    /// `w` in every layout.
     pub fn new(w: Workload) -> Self {
         Self {
             packed: w.packed(),
@@ -53,14 +66,18 @@ impl Prepared {
 /// What an entry tests.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Prim {
+    /// Triangles.
     Triangle,
+    /// Spheres.
     Sphere,
 }
 
 /// What an entry asks.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Query {
+    /// The closest hit.
     Closest,
+    /// Any hit.
     Any,
 }
 
@@ -68,10 +85,15 @@ pub enum Query {
 /// number of rays that hit (so nothing is optimised away and entries can be cross-checked).
 #[derive(Clone, Copy)]
 pub struct Entry {
+    /// The name the reports print.
     pub name: &'static str,
+    /// What it tests.
     pub prim: Prim,
+    /// What it asks.
     pub query: Query,
+    /// An octoray kernel (not a peer or a candidate).
     pub ours: bool,
+    /// One pass over the workload: rays that hit.
     pub run: fn(&Prepared) -> u32,
 }
 

@@ -29,7 +29,9 @@ pub enum HitRate {
 }
 
 impl HitRate {
+    /// Every rate, lowest first.
     pub const ALL: [HitRate; 3] = [HitRate::None, HitRate::Half, HitRate::All];
+    /// The benchmark id's suffix.
     pub fn name(self) -> &'static str {
         match self {
             Self::None => "hit0",
@@ -41,8 +43,11 @@ impl HitRate {
 
 /// Rays and primitives for one benchmark.
 pub struct Workload {
+    /// The rays.
     pub rays: Vec<Ray>,
+    /// The triangles, as vertices.
     pub tris: Vec<[Vec3; 3]>,
+    /// The spheres: centre, radius.
     pub spheres: Vec<(Vec3, f32)>,
 }
 
@@ -102,18 +107,21 @@ impl Workload {
         }
     }
 
+    /// The triangles in the standard tier's layout.
     pub fn packed(&self) -> Vec<PackedTriangle> {
         self.tris
             .iter()
             .map(|t| PackedTriangle::new(t[0], t[1], t[2]))
             .collect()
     }
+    /// The triangles as vertices.
     pub fn vertex(&self) -> Vec<VertexTriangle> {
         self.tris
             .iter()
             .map(|t| VertexTriangle::new(t[0], t[1], t[2]))
             .collect()
     }
+    /// The spheres in the kernels' layout.
     pub fn packed_spheres(&self) -> Vec<PackedSphere> {
         self.spheres
             .iter()

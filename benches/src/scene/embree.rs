@@ -8,6 +8,8 @@
 //! device with `threads=1`; robust mode is `RTC_SCENE_FLAG_ROBUST`.
 #![allow(unsafe_code)] // FFI into the peer; the library crates forbid unsafe code.
 
+use crate::scene::row::{Query, Traversal};
+use crate::scene::trace::Traces;
 use glam::Vec3;
 use octoray::prim::Ray;
 use std::ffi::{c_char, c_int, c_uint, c_void};
@@ -422,5 +424,17 @@ impl EmbreeScene {
                 .count() as u64;
         }
         hits
+    }
+}
+
+impl Traces for EmbreeScene {
+    fn trace(&self, query: Query, traversal: Traversal, rays: &[Ray]) -> Option<u64> {
+        match (query, traversal) {
+            (Query::Closest, Traversal::Packet8) => Some(self.closest8(rays)),
+            (Query::Closest, Traversal::Single) => Some(self.closest1(rays)),
+            (Query::Any, Traversal::Packet8) => Some(self.any8(rays)),
+            (Query::Any, Traversal::Single) => Some(self.any1(rays)),
+            _ => None,
+        }
     }
 }

@@ -5,9 +5,11 @@
 //!   traversal (`ray_traverse`, `ray_traverse_miss`) with `Triangle::intersect`.
 //! - [`BvhScene`]: bvh 0.13 (`Bvh::build`, `traverse` for the candidates, then
 //!   `Ray::intersects_triangle`, which culls back faces).
-//! - [`crate::embree`]: Embree 3 through its C API, loaded at run time.
+//! - [`crate::scene::embree`]: Embree 3 through its C API, loaded at run time.
 //! - [`TinyBvhScene`]: tinybvh 1.6.8's `BVH8_CPU` through `tinybvh-rs` (the `tinybvh` feature).
 
+use crate::scene::row::{Query, Traversal};
+use crate::scene::trace::Traces;
 use glam::Vec3;
 use octoray::prim::Ray;
 use std::time::{Duration, Instant};
@@ -22,7 +24,7 @@ impl ObvhsScene {
     /// Builds with `medium_build` on one thread (the caller's rayon pool is not used by obvhs's
     /// builder unless its feature is on); returns the scene and the build's wall time.
     pub fn build(tris: &[[Vec3; 3]]) -> (Self, Duration) {
-        let tris = crate::peers::obvhs_tris(tris);
+        let tris = crate::kernel::peers::obvhs_tris(tris);
         let start = Instant::now();
         let mut core = Duration::ZERO;
         let bvh = obvhs::cwbvh::builder::build_cwbvh_from_tris(
@@ -127,7 +129,7 @@ pub struct BvhScene {
 impl BvhScene {
     /// Builds (one thread); returns the scene and the build's wall time.
     pub fn build(tris: &[[Vec3; 3]]) -> (Self, Duration) {
-        let mut tris: Vec<BvhTri> = crate::peers::bvh_tris(tris)
+        let mut tris: Vec<BvhTri> = crate::kernel::peers::bvh_tris(tris)
             .into_iter()
             .map(|p| BvhTri { p, node: 0 })
             .collect();
@@ -142,7 +144,7 @@ impl BvhScene {
         let mut hits = 0;
         for r in rays {
             let ray = bvh::ray::Ray::new(
-                crate::peers::bvh_point(r.origin),
+                crate::kernel::peers::bvh_point(r.origin),
                 nalgebra::Vector3::new(r.dir.x, r.dir.y, r.dir.z),
             );
             let mut best = f32::INFINITY;
@@ -262,5 +264,31 @@ impl TinyBvhScene {
     #[cfg(not(all(feature = "tinybvh", target_feature = "avx2")))]
     pub fn closest(&self, _: &[Ray]) -> u64 {
         0
+    }
+}
+
+impl Traces for ObvhsScene {
+    fn trace(&self, query: Query, traversal: Traversal, rays: &[Ray]) -> Option<u64> {
+        match (query, traversal) {
+            (Query::Closest, Traversal::Single) => Some(self.closest(rays)),
+            (Query::Any, Traversal::Single) => Some(self.any(rays)),
+            _ => None,
+        }
+    }
+}
+
+impl Traces for BvhScene {
+    fn trace(&self, query: Query, traversal: Traversal, rays: &[Ray]) -> Option<u64> {
+        match (query, traversal) {
+            (Query::Closest, Traversal::Single) => Some(self.closest(rays)),
+            _ => None,
+        }
+    }
+}
+
+impl Traces for TinyBvhScene {
+    /// The wrapper has no occlusion query: [`Query::Any`] is its closest hit within the segment.
+    fn trace(&self, _: Query, traversal: Traversal, rays: &[Ray]) -> Option<u64> {
+        (traversal == Traversal::Single).then(|| self.closest(rays))
     }
 }

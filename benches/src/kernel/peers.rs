@@ -171,6 +171,7 @@ pub fn obvhs_closest(rays: &[Ray], tris: &[obvhs::triangle::Triangle]) -> u32 {
     hits
 }
 
+/// `v` as the `bvh` crate's point.
 pub fn bvh_point(v: Vec3) -> nalgebra::Point3<f32> {
     nalgebra::Point3::new(v.x, v.y, v.z)
 }
@@ -284,14 +285,20 @@ pub fn glam_spheres(rays: &[Ray], spheres: &[(Vec3, f32)]) -> u32 {
 /// A peer's single ray-triangle test, t in units of the ray's own direction.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TrianglePeer {
+    /// Möller–Trumbore by hand on `glam::Vec3A`.
     Glam,
+    /// Möller–Trumbore by hand on `ultraviolet::Vec3x8`.
     Ultraviolet,
+    /// `obvhs::triangle::Triangle::intersect`.
     Obvhs,
+    /// `bvh::ray::Ray::intersects_triangle`.
     Bvh,
+    /// parry3d's `Triangle::cast_local_ray`.
     Parry,
 }
 
 impl TrianglePeer {
+    /// Every peer, in the order the reports list them.
     pub const ALL: [TrianglePeer; 5] = [
         Self::Glam,
         Self::Ultraviolet,
@@ -299,6 +306,7 @@ impl TrianglePeer {
         Self::Bvh,
         Self::Parry,
     ];
+    /// The reports' name for the peer.
     pub fn name(self) -> &'static str {
         match self {
             Self::Glam => "glam MT (hand-written, scalar)",

@@ -3,7 +3,8 @@
 //! target the scene report shows missed, both rows' counts side by side (`benches/counts.md`,
 //! written by `profile --report`).
 
-use crate::targets::{Target, TARGETS};
+use crate::scene::row::{Query, RaySet, Row, System, Tier, Traversal};
+use crate::scene::targets::{Target, TARGETS};
 use std::fmt::Write as _;
 
 /// The scenes, as `profile` names them, with their section names in `benches/scenes.md`.
@@ -16,17 +17,14 @@ pub const SCENES: [(&str, &str); 6] = [
     ("open", "open field"),
 ];
 
-/// The systems `profile` runs, with the names the scene report gives their rows.
-pub const SYSTEMS: [(&str, &str); 6] = [
-    ("watertight", "watertight"),
-    ("spatial", "watertight, spatial splits"),
-    ("standard", "standard"),
-    ("embree-robust", "Embree 3 robust"),
-    (
-        "tinybvh",
-        "tinybvh 1.6.8 (BVH8_CPU, BuildHQ: spatial splits)",
-    ),
-    ("obvhs", "obvhs 0.4 (CWBVH)"),
+/// The systems `profile` runs, by the name `profile` takes.
+pub const SYSTEMS: [(&str, System); 6] = [
+    ("watertight", System::Octoray(Tier::Watertight)),
+    ("spatial", System::Octoray(Tier::Spatial)),
+    ("standard", System::Octoray(Tier::Standard)),
+    ("embree-robust", System::Embree { robust: true }),
+    ("tinybvh", System::TinyBvh { hq: true }),
+    ("obvhs", System::Obvhs),
 ];
 
 /// The rows `profile <scene> all <system>` runs, in order: ray set and packets of 8.
@@ -43,28 +41,23 @@ pub fn rows(system: &str) -> Vec<(&'static str, bool)> {
     }
 }
 
-/// `profile`'s arguments for a scene report row key (`rays|query|traversal|tier`): ray set,
-/// system and packets of 8; `None` for a row `profile` does not run.
-pub fn profile_args(key: &str) -> Option<(&'static str, &'static str, bool)> {
-    let mut parts = key.splitn(4, '|');
-    let (rays, query, traversal, tier) =
-        (parts.next()?, parts.next()?, parts.next()?, parts.next()?);
-    let rays = match (rays, query) {
-        ("primary", "closest") => "primary",
-        ("primary", "any") => "primary-any",
-        ("primary (camera 2)", "closest") => "camera2",
-        ("diffuse bounce", "closest") => "bounce",
-        ("shadow", "any") => "shadow",
+/// `profile`'s arguments for a scene report row: ray set, system and packets of 8; `None` for a
+/// row `profile` does not run.
+pub fn profile_args(row: Row) -> Option<(&'static str, &'static str, bool)> {
+    let rays = match (row.rays, row.query) {
+        (RaySet::Primary, Query::Closest) => "primary",
+        (RaySet::Primary, Query::Any) => "primary-any",
+        (RaySet::Camera2, Query::Closest) => "camera2",
+        (RaySet::Bounce, Query::Closest) => "bounce",
+        (RaySet::Shadow, Query::Any) => "shadow",
         _ => return None,
     };
-    let packets = if traversal.starts_with("packet-8") {
-        true
-    } else if traversal.starts_with("single ray") {
-        false
-    } else {
-        return None;
+    let packets = match row.traversal {
+        Traversal::Packet8 => true,
+        Traversal::Single => false,
+        Traversal::Packet16 | Traversal::Batch => return None,
     };
-    let system = SYSTEMS.iter().find(|(_, name)| *name == tier)?.0;
+    let system = SYSTEMS.iter().find(|(_, s)| *s == row.system)?.0;
     Some((rays, system, packets))
 }
 
@@ -120,11 +113,17 @@ impl Counts {
 /// counts.
 #[derive(Clone, Debug)]
 pub struct Counted {
+    /// The scene, as `profile` names it.
     pub scene: &'static str,
+    /// The ray set, as `profile` names it.
     pub rays: &'static str,
+    /// The system, as `profile` names it.
     pub system: &'static str,
+    /// Packets of 8 (else single rays).
     pub packets: bool,
+    /// Rays traced.
     pub n: u64,
+    /// Their counts.
     pub counts: Counts,
 }
 
@@ -184,7 +183,7 @@ pub fn markdown(header: &str, counted: &[Counted], scenes_md: &str) -> String {
             let system = SYSTEMS
                 .iter()
                 .find(|s| s.0 == c.system)
-                .map_or(c.system, |s| s.1);
+                .map_or(c.system, |s| s.1.label());
             writeln!(
                 md,
                 "| {} | {} | {system} | {:.0} | {:.0} | {:.2} | {:.2} | {:.3} | {} |",
@@ -318,11 +317,21 @@ mod tests {
             }
         }
         assert_eq!(
-            profile_args("shadow|any|single ray (rtcOccluded1)|Embree 3 robust"),
+            profile_args(Row::new(
+                RaySet::Shadow,
+                Query::Any,
+                Traversal::Single,
+                System::Embree { robust: true }
+            )),
             Some(("shadow", "embree-robust", false))
         );
         assert_eq!(
-            profile_args("primary|closest|packet-16 (4×4 tiles)|watertight"),
+            profile_args(Row::new(
+                RaySet::Primary,
+                Query::Closest,
+                Traversal::Packet16,
+                System::Octoray(Tier::Watertight)
+            )),
             None
         );
     }

@@ -1,116 +1,88 @@
 //! The scene report's chart (`benches/scenes.svg`): per scene, the speed of each system on the
 //! main rows relative to Embree 3 robust in the same run (1 = as fast; above is faster).
 
+use crate::scene::row::{Query, RaySet, Row, System, Tier, Traversal};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::collections::HashMap;
 
-/// One scene's rows: `"rays|query|traversal|tier or peer"` → Mrays/s.
-pub type Rates = HashMap<String, f64>;
+/// One scene's rows: Mrays/s per row measured.
+pub type Rates = HashMap<Row, f64>;
 
-/// Which of a row's `rays|query|traversal` columns ([`ROWS`]) a system's rows use.
-#[derive(Clone, Copy)]
-enum Kind {
-    Octoray = 0,
-    Embree = 1,
-    TinyBvh = 2,
-    Obvhs = 3,
-}
-
-/// The systems drawn: label, colour, the tier-or-peer column of its rows, and its kind of row.
-const SERIES: [(&str, RGBColor, &str, Kind); 5] = [
+/// The systems drawn: label, colour, system.
+const SERIES: [(&str, RGBColor, System); 5] = [
     (
         "octoray watertight",
         RGBColor(31, 119, 180),
-        "watertight",
-        Kind::Octoray,
+        System::Octoray(Tier::Watertight),
     ),
     (
         "octoray watertight, spatial splits",
         RGBColor(23, 190, 207),
-        "watertight, spatial splits",
-        Kind::Octoray,
+        System::Octoray(Tier::Spatial),
     ),
     (
         "Embree 3 fast",
         RGBColor(214, 39, 40),
-        "Embree 3 fast",
-        Kind::Embree,
+        System::Embree { robust: false },
     ),
     (
         "tinybvh BVH8_CPU, BuildHQ",
         RGBColor(255, 127, 14),
-        "tinybvh 1.6.8 (BVH8_CPU, BuildHQ: spatial splits)",
-        Kind::TinyBvh,
+        System::TinyBvh { hq: true },
     ),
-    (
-        "obvhs CWBVH",
-        RGBColor(44, 160, 44),
-        "obvhs 0.4 (CWBVH)",
-        Kind::Obvhs,
-    ),
+    ("obvhs CWBVH", RGBColor(44, 160, 44), System::Obvhs),
 ];
 
-/// The rows drawn: a label, then per [`Kind`] the `rays|query|traversal` of its row (empty where
-/// the system has no such row).
-const ROWS: [(&str, [&str; 4]); 5] = [
+/// The rows drawn: a label, the rays, the query and the traversal (a system without that row
+/// has no bar).
+const ROWS: [(&str, RaySet, Query, Traversal); 5] = [
     (
         "primary packet-8",
-        [
-            "primary|closest|packet-8 (4×2 tiles)",
-            "primary|closest|packet-8 (rtcIntersect8)",
-            "",
-            "",
-        ],
+        RaySet::Primary,
+        Query::Closest,
+        Traversal::Packet8,
     ),
     (
         "primary single",
-        [
-            "primary|closest|single ray (leaves ×8)",
-            "primary|closest|single ray (rtcIntersect1)",
-            "primary|closest|single ray",
-            "primary|closest|single ray",
-        ],
+        RaySet::Primary,
+        Query::Closest,
+        Traversal::Single,
     ),
     (
         "camera 2 single",
-        [
-            "primary (camera 2)|closest|single ray",
-            "primary (camera 2)|closest|single ray (rtcIntersect1)",
-            "primary (camera 2)|closest|single ray",
-            "primary (camera 2)|closest|single ray",
-        ],
+        RaySet::Camera2,
+        Query::Closest,
+        Traversal::Single,
     ),
     (
         "bounce single",
-        [
-            "diffuse bounce|closest|single ray",
-            "diffuse bounce|closest|single ray (rtcIntersect1)",
-            "diffuse bounce|closest|single ray",
-            "diffuse bounce|closest|single ray",
-        ],
+        RaySet::Bounce,
+        Query::Closest,
+        Traversal::Single,
     ),
     (
         "shadow single",
-        [
-            "shadow|any|single ray",
-            "shadow|any|single ray (rtcOccluded1)",
-            "shadow|closest (no occlusion query)|single ray",
-            "shadow|any|single ray",
-        ],
+        RaySet::Shadow,
+        Query::Any,
+        Traversal::Single,
     ),
 ];
 
-/// Speed of `series` (an index into [`SERIES`]) on `row` relative to Embree 3 robust, where both
-/// rows were measured.
-fn ratio(rates: &Rates, row: &[&str; 4], series: usize) -> Option<f64> {
-    let (_, _, column, kind) = SERIES[series];
-    let kind = kind as usize;
-    if row[kind].is_empty() {
-        return None;
-    }
-    let own = rates.get(&format!("{}|{}", row[kind], column))?;
-    let robust = rates.get(&format!("{}|Embree 3 robust", row[1]))?;
+/// Speed of `system` on the row `(rays, query, traversal)` relative to Embree 3 robust, where
+/// both rows were measured.
+fn ratio(
+    rates: &Rates,
+    (_, rays, query, traversal): (&str, RaySet, Query, Traversal),
+    system: System,
+) -> Option<f64> {
+    let own = rates.get(&Row::new(rays, query, traversal, system))?;
+    let robust = rates.get(&Row::new(
+        rays,
+        query,
+        traversal,
+        System::Embree { robust: true },
+    ))?;
     Some(own / robust)
 }
 
@@ -139,7 +111,7 @@ pub fn draw(scenes: &[(String, Rates)], machine: &str, path: &str) -> Result<(),
     for ((name, rates), area) in scenes.iter().zip(areas) {
         let top = ROWS
             .iter()
-            .flat_map(|(_, row)| (0..SERIES.len()).filter_map(|s| ratio(rates, row, s)))
+            .flat_map(|&row| SERIES.iter().filter_map(move |s| ratio(rates, row, s.2)))
             .fold(1.5f64, f64::max)
             * 1.1;
         let mut c = ChartBuilder::on(&area)
@@ -164,9 +136,9 @@ pub fn draw(scenes: &[(String, Rates)], machine: &str, path: &str) -> Result<(),
         ))
         .map_err(|e| err(&e))?;
         let w = 0.8 / SERIES.len() as f64;
-        for (k, (label, row)) in ROWS.iter().enumerate() {
-            for (s, (_, colour, _, _)) in SERIES.iter().enumerate() {
-                if let Some(r) = ratio(rates, row, s) {
+        for (k, &row) in ROWS.iter().enumerate() {
+            for (s, &(_, colour, system)) in SERIES.iter().enumerate() {
+                if let Some(r) = ratio(rates, row, system) {
                     let x0 = k as f64 + 0.1 + w * s as f64;
                     c.draw_series(std::iter::once(Rectangle::new(
                         [(x0, 0.0), (x0 + w * 0.9, r)],
@@ -176,7 +148,7 @@ pub fn draw(scenes: &[(String, Rates)], machine: &str, path: &str) -> Result<(),
                 }
             }
             // Two lines under the group: the rays, then the traversal.
-            let (rays, how) = label.split_once(' ').unwrap_or((label, ""));
+            let (rays, how) = row.0.split_once(' ').unwrap_or((row.0, ""));
             let (x, y) = c.backend_coord(&(k as f64 + 0.5, 0.0));
             for (i, line) in [rays, how].into_iter().enumerate() {
                 area.draw(&Text::new(
@@ -195,7 +167,7 @@ pub fn draw(scenes: &[(String, Rates)], machine: &str, path: &str) -> Result<(),
         }
     }
     let step = (pw * cols as u32) as i32 / SERIES.len() as i32;
-    for (s, (label, colour, _, _)) in SERIES.iter().enumerate() {
+    for (s, (label, colour, _)) in SERIES.iter().enumerate() {
         let x = 12 + step * s as i32;
         legend
             .draw(&Rectangle::new([(x, 18), (x + 14, 32)], colour.filled()))

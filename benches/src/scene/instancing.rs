@@ -2,7 +2,7 @@
 //! the same triangles flattened into one tree), alpha-tested leaves, and an animation refitted
 //! frame by frame.
 
-use crate::scenes::SceneSet;
+use crate::scene::sets::SceneSet;
 use glam::{Affine3A, Quat, Vec3};
 use octoray::bvh::Bvh8Ref;
 use octoray::hit::{Candidate, Hit};

@@ -17,7 +17,9 @@ use wide::f32x8;
 
 /// A triangle scene with two cameras and a point light.
 pub struct SceneSet {
+    /// Its name in the reports.
     pub name: &'static str,
+    /// Its triangles, as vertices.
     pub tris: Vec<[Vec3; 3]>,
     /// Where each mesh of the file starts in `tris` (one mesh: `[0]`).
     pub meshes: Vec<usize>,
