@@ -2,7 +2,7 @@
 # The same bits on other ISAs: test slices on aarch64 (NEON, under QEMU user mode) and on
 # wasm32-wasip1 (simd128, under Node's WASI), through the runners in .cargo/config.toml. Each
 # slice includes the determinism digest (the value stored for x86-64), the Cortex-M firmware's
-# transcript (examples/cortex-m/expected.txt), the golden seed tests,
+# transcript (examples/cortex-m/expected.txt), the golden seed tests, the box test,
 # packet == scalar twin, the exact tier against the oracle and BVH == brute force. Installs what
 # it needs; skips a target with a message only when its tools cannot be installed here.
 set -euo pipefail
@@ -18,7 +18,7 @@ apt_install() {
 # The slice, as test-name filters on the one integration-test binary (tests/suite): whole
 # modules, and BVH == brute force without the heaviest proptests (emulation is slow) and, on
 # WebAssembly, without the thread-pool tests (wasm32-wasip1 has no threads).
-SLICE=(determinism:: embedded:: golden:: exact:: queries:: box_test:: packet_bits::
+SLICE=(determinism:: embedded:: golden:: exact:: queries:: packet_bits::
   bvh::bvh_equals_brute_force_on_triangle_scenes bvh::bvh_equals_brute_force_on_sphere_scenes
   bvh::filtered_walks bvh::ties_go_to bvh::crack_suite bvh::build_is_deterministic
   bvh::empty_and_unhittable bvh::refit_rejects)
@@ -28,12 +28,19 @@ SLICE=(determinism:: embedded:: golden:: exact:: queries:: box_test:: packet_bit
 # determinism digest, the seed problems, the firmware's transcript) is the same.
 export OCTORAY_CASES="${OCTORAY_CASES:-0.25}"
 
+# The config's wasm runner names its script relative to the workspace, but cargo runs a
+# package's unit tests from the package's folder: give it the absolute path.
+export CARGO_TARGET_WASM32_WASIP1_RUNNER="node --no-warnings --single-threaded $PWD/.ci/wasi-run.mjs"
+
 # slice TARGET NAME RUSTFLAGS: the slice for TARGET, built in its own target dir with only the
 # slice's modules of tests/suite (RUSTFLAGS applies to the target's artifacts only, and
 # replaces the config's flags for it).
 slice() {
   CARGO_TARGET_DIR=target/cross RUSTFLAGS="$3 --cfg octoray_isa_slice" \
     cargo test --target "$1" --test suite -- "${SLICE[@]}"
+  # The box test is a unit test of octoray-packet (the slab test is internal).
+  CARGO_TARGET_DIR=target/cross RUSTFLAGS="$3 --cfg octoray_isa_slice" \
+    cargo test --target "$1" -p octoray-packet --lib -- tree::box_test::
   echo "ok: $2 slice passed (digest equal to x86-64's)"
 }
 

@@ -166,6 +166,7 @@ const TREE_LAYERS: &[(&str, &[&str])] = &[
     ("packet", &["epilog", "leaf", "slab", "single"]),
     ("batch", &["epilog", "packet", "single"]),
     ("queries", &["epilog", "leaf", "packet", "single", "batch"]),
+    ("box_test", &["slab"]),
 ];
 
 /// The modules `super::` names in `src` (outside comments).

@@ -11,7 +11,6 @@ mod accuracy;
 mod architecture;
 #[cfg(not(octoray_isa_slice))]
 mod bad_input;
-mod box_test;
 mod bvh;
 mod determinism;
 mod embedded;

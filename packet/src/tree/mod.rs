@@ -58,8 +58,10 @@ pub(crate) mod leaf;
 pub(crate) mod packet;
 mod queries;
 pub(crate) mod single;
-#[doc(hidden)]
-pub mod slab;
+pub(crate) mod slab;
+
+#[cfg(test)]
+mod box_test;
 
 pub use queries::{
     closest, closest_packet, closest_packet_with, closest_ray, closest_ray_with, closest_t_packet,

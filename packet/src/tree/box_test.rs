@@ -1,17 +1,18 @@
 //! The conservative box test: the slab test never rejects a box a ray meets (decided exactly by
 //! the oracle, on boxes at a ray's decision edge, every scale, huge and signed-zero directions),
 //! and a coherent packet's frustum never drops a child some lane's slab test keeps. These are
-//! what make the scene walks equal brute force (`bvh.rs`).
-#![cfg(all(feature = "triangle", feature = "sphere", feature = "alloc"))]
+//! what make the walks equal brute force (`tests/suite/bvh.rs`).
+extern crate std;
 use octoray_testkit as testkit;
+use std::vec::Vec;
 
-use octoray::f32x8;
-use octoray::glam::Vec3;
-use octoray::lanes::{LaneMask, V3};
-use octoray::prim::{Ray, RayLanes};
-use octoray::tree::slab::{slab, BoxRay, Frustum};
+use super::slab::{slab, BoxRay, Frustum};
+use octoray_core::glam::Vec3;
+use octoray_core::lanes::{LaneMask, V3};
+use octoray_core::prim::{Ray, RayLanes};
 use proptest::prelude::*;
 use testkit::Rng;
+use wide::f32x8;
 
 proptest! {
     #![proptest_config(octoray_testkit::cases::proptest_config(4096))]
