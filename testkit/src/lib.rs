@@ -14,6 +14,7 @@ pub mod mesh;
 pub mod oracle;
 pub mod rays;
 pub mod spawn;
+pub mod stored;
 pub mod strategies;
 pub mod trees;
 

@@ -1092,6 +1092,7 @@ fn duplicated_unbounded_entries(
     rng: &mut Rng,
 ) {
     use octoray::scene::{SceneParts, SceneRef, Trace, INSTANCES};
+    use octoray_testkit::stored::{word, words, FIRST_UNBOUNDED, UNBOUNDED};
     let p = s.parts();
     if p.unbounded.is_empty() {
         return;
@@ -1100,8 +1101,8 @@ fn duplicated_unbounded_entries(
     let mut trees = p.trees.to_vec();
     let world_end = trees
         .iter()
-        .find(|t| t.kind == INSTANCES)
-        .map_or(p.unbounded.len(), |t| t.first_unbounded as usize);
+        .find(|t| t.kind() == INSTANCES)
+        .map_or(p.unbounded.len(), |t| words(t)[FIRST_UNBOUNDED] as usize);
     let repeat = |list: &[u32], out: &mut Vec<u32>| {
         for &k in list {
             out.extend(std::iter::repeat_n(k, copies));
@@ -1109,10 +1110,13 @@ fn duplicated_unbounded_entries(
     };
     let mut unbounded = Vec::new();
     repeat(&p.unbounded[..world_end], &mut unbounded);
-    for t in trees.iter_mut().filter(|t| t.kind == INSTANCES) {
-        let (u0, n) = (t.first_unbounded as usize, t.unbounded as usize);
-        t.first_unbounded = unbounded.len() as u32;
-        t.unbounded = (n * copies) as u32;
+    for t in trees.iter_mut().filter(|t| t.kind() == INSTANCES) {
+        let (u0, n) = (
+            words(t)[FIRST_UNBOUNDED] as usize,
+            words(t)[UNBOUNDED] as usize,
+        );
+        *word(t, FIRST_UNBOUNDED) = unbounded.len() as u32;
+        *word(t, UNBOUNDED) = (n * copies) as u32;
         repeat(&p.unbounded[u0..u0 + n], &mut unbounded);
     }
     let parts = SceneParts {

@@ -18,6 +18,7 @@ use octoray::scene::{
 };
 use octoray::{f32x16, f32x4, f32x8, query};
 use proptest::prelude::*;
+use testkit::stored::{word, words, FIRST_MEMBER, FIRST_UNBOUNDED, LEVELS, MASK, PATHS, SLACK};
 use testkit::Rng;
 use wide::f64x4;
 
@@ -698,7 +699,7 @@ fn filters_see_geometry_and_instance() {
             .world()
             .instances
             .last()
-            .map_or(0, |i| i.path + r.trees()[i.tree as usize].paths);
+            .map_or(0, |i| i.path + r.trees()[i.tree as usize].paths());
         let banned = (seed % u64::from(paths)) as u32;
         let without = World {
             geoms: w.geoms.clone(),
@@ -903,7 +904,7 @@ fn stored_scenes_validate_and_corrupted_ones_never_panic() {
                             let inst = &r.instances()[path.leaf() as usize];
                             let tree = &r.trees()[inst.tree as usize];
                             assert!(h.geom < r.geometries().len() as u32);
-                            assert!(h.prim < tree.prims);
+                            assert!(h.prim < tree.prims());
                             assert!(h.t.is_finite());
                         }
                         r.occluded_ray::<f32x8, Watertight, StableSphere>(ray, !0);
@@ -992,7 +993,7 @@ fn malformed_scenes_name_what_is_wrong() {
     let group = |s: &Stored| {
         s.trees
             .iter()
-            .position(|t| t.kind == octoray::scene::INSTANCES)
+            .position(|t| t.kind() == octoray::scene::INSTANCES)
             .unwrap()
     };
     let s = Stored::of(&parts);
@@ -1000,7 +1001,7 @@ fn malformed_scenes_name_what_is_wrong() {
     assert!(SceneRef::<VertexTriangle, PackedSphere>::new(s.parts()).is_ok());
     // A group's instance placing a tree that does not come before it (a cycle).
     let mut s = Stored::of(&parts);
-    let first = s.trees[g0].first_member as usize;
+    let first = words(&s.trees[g0])[FIRST_MEMBER] as usize;
     s.insts[first].tree = g0 as u32;
     assert_eq!(
         SceneRef::<VertexTriangle, PackedSphere>::new(s.parts()).unwrap_err(),
@@ -1008,11 +1009,11 @@ fn malformed_scenes_name_what_is_wrong() {
     );
     // Levels, paths, mask and slack are what the instances make them.
     for corrupt in [
-        (|t: &mut SceneTree| t.levels += 1) as fn(&mut SceneTree),
-        |t| t.paths += 1,
-        |t| t.mask ^= 1,
-        |t| t.slack *= 2.0,
-        |t| t.first_unbounded += 1,
+        (|t: &mut SceneTree| *word(t, LEVELS) += 1) as fn(&mut SceneTree),
+        |t| *word(t, PATHS) += 1,
+        |t| *word(t, MASK) ^= 1,
+        |t| *word(t, SLACK) = (f32::from_bits(words(t)[SLACK]) * 2.0).to_bits(),
+        |t| *word(t, FIRST_UNBOUNDED) += 1,
     ] {
         let mut s = Stored::of(&parts);
         corrupt(&mut s.trees[last]);

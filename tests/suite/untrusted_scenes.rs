@@ -11,6 +11,9 @@ use octoray::hit::Candidate;
 use octoray::kernels::{StableSphere, Watertight};
 use octoray::prim::{PackedSphere, Ray, RayLanes, VertexTriangle};
 use octoray::scene::{Scene, SceneError, SceneRef, Trace, Transform, MAX_INSTANCE_LEVELS};
+use octoray_testkit::stored::{
+    word, words, FIRST_MEMBER, FIRST_UNBOUNDED, KIND, LEVELS, MASK, PATHS, PRIMS, UNBOUNDED,
+};
 use std::cell::RefCell;
 
 type S = Scene<VertexTriangle, PackedSphere>;
@@ -152,13 +155,16 @@ fn duplicate_unbounded_entries_are_counted_and_refused_past_the_budget() {
         let mut st = Stored::of(&scene.parts());
         // The trees: the triangle's, then groups 0, 1, 2; instances: the world's (index 0),
         // then each group's one. Each level's list: `copies` entries of its instance.
-        let group_first: Vec<u32> = st.trees[1..].iter().map(|t| t.first_member).collect();
+        let group_first: Vec<u32> = st.trees[1..]
+            .iter()
+            .map(|t| words(t)[FIRST_MEMBER])
+            .collect();
         st.unbounded.clear();
         st.unbounded.extend(std::iter::repeat_n(0, copies as usize));
         for (k, &first) in group_first.iter().enumerate() {
             let t = &mut st.trees[1 + k];
-            t.first_unbounded = st.unbounded.len() as u32;
-            t.unbounded = copies;
+            *word(t, FIRST_UNBOUNDED) = st.unbounded.len() as u32;
+            *word(t, UNBOUNDED) = copies;
             st.unbounded
                 .extend(std::iter::repeat_n(first, copies as usize));
         }
@@ -440,4 +446,24 @@ fn scenes_are_send_and_sync_and_trace_alike_from_threads() {
             assert_eq!(run.join().unwrap(), one);
         }
     });
+}
+
+#[test]
+fn the_stored_tree_words_are_the_records_fields() {
+    // testkit::stored names a tree record's words for the hostile-data tests: its names must be
+    // where the library keeps the fields it reports.
+    let scene = chain(3, Transform::IDENTITY);
+    let trees = scene.as_ref().parts().trees;
+    assert_eq!(trees.len(), 4);
+    for t in trees {
+        let w = words(t);
+        assert_eq!(
+            [w[KIND], w[PRIMS], w[MASK], w[PATHS]],
+            [t.kind(), t.prims(), t.mask(), t.paths()]
+        );
+    }
+    assert_eq!(words(&trees[0])[KIND], octoray::scene::TRIANGLES);
+    assert!(trees[1..]
+        .iter()
+        .all(|t| t.kind() == octoray::scene::INSTANCES && words(t)[LEVELS] >= 1));
 }

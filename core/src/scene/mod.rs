@@ -124,40 +124,64 @@ pub struct Geometry {
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct SceneTree {
     /// [`TRIANGLES`], [`SPHERES`] or [`INSTANCES`].
-    pub kind: u32,
+    pub(crate) kind: u32,
     /// Its members' primitives together (a group: its instances).
-    pub prims: u32,
+    pub(crate) prims: u32,
     /// Its root's index in the nodes of its kind.
-    pub first_node: u32,
+    pub(crate) first_node: u32,
     /// Its number of nodes (0: empty, never hit).
-    pub nodes: u32,
+    pub(crate) nodes: u32,
     /// Its first block in the blocks of its kind.
-    pub first_block: u32,
+    pub(crate) first_block: u32,
     /// Its number of blocks of [`BLOCK`] primitives.
-    pub blocks: u32,
+    pub(crate) blocks: u32,
     /// Its first member in the scene's member list (a group: its first instance; a group's
     /// instances follow the world's and the previous group's).
-    pub first_member: u32,
+    pub(crate) first_member: u32,
     /// Its number of members (geometries), at least 1 (a group: its instances, as `prims`).
-    pub members: u32,
+    pub(crate) members: u32,
     /// The AND of its members' masks (a query sharing a bit with it admits every member, and
     /// the walk skips the per-hit mask test); a group: the OR of its instances' masks (a ray
     /// sharing no bit with it skips the group).
-    pub mask: u32,
+    pub(crate) mask: u32,
     /// Instance levels below an instance of it: 0 for geometries; for a group, one more than
     /// the deepest tree its instances place (below [`MAX_INSTANCE_LEVELS`]).
-    pub levels: u32,
+    pub(crate) levels: u32,
     /// Instance paths through one instance of it (the hit `inst` values it spans): 1 for
     /// geometries; for a group, the sum over its instances' trees.
-    pub paths: u32,
+    pub(crate) paths: u32,
     /// Relative origin slack of the box tests in it: [`SLACK`] for geometries; for a group,
     /// what its instances need ([`Transform::world_box_within`]), at least [`SLACK`].
-    pub slack: f32,
+    pub(crate) slack: f32,
     /// A group's first entry in the unbounded list (its instances outside its tree follow the
     /// world's and the previous group's there); 0 for geometries.
-    pub first_unbounded: u32,
+    pub(crate) first_unbounded: u32,
     /// A group's number of unbounded instances; 0 for geometries.
-    pub unbounded: u32,
+    pub(crate) unbounded: u32,
+}
+
+impl SceneTree {
+    /// [`TRIANGLES`], [`SPHERES`] or [`INSTANCES`] (a group).
+    pub const fn kind(&self) -> u32 {
+        self.kind
+    }
+
+    /// Its members' primitives together (a group: its instances).
+    pub const fn prims(&self) -> u32 {
+        self.prims
+    }
+
+    /// The AND of its members' masks (a query sharing a bit with it admits every member); a
+    /// group: the OR of its instances' masks (a ray sharing no bit with it skips the group).
+    pub const fn mask(&self) -> u32 {
+        self.mask
+    }
+
+    /// Instance paths through one instance of it (the hit `inst` values it spans): 1 for
+    /// geometries; for a group, the sum over its instances' trees.
+    pub const fn paths(&self) -> u32 {
+        self.paths
+    }
 }
 
 /// A geometry in a tree: its primitives are the tree's `first_prim..first_prim + prims`.

@@ -127,7 +127,7 @@ impl Transform {
 
     /// The box in its level's space (the world's or a group's) of an instance whose object box
     /// is `obj`, in which the tree it places tests boxes with relative origin slack `inner`
-    /// ([`SLACK`] for geometries, a group's [`crate::scene::SceneTree::slack`]): a box that holds
+    /// ([`SLACK`] for geometries, a group's own box-test slack, what its instances need): a box that holds
     /// every point `q` whose transformed ray's hit lies in `obj` — `A⁻¹(obj − b)`, grown by what
     /// the ray's rounding into object space can move a hit (the part that grows with the ray's
     /// origin is the level's origin slack, [`Transform::origin_slack_within`]). `None` when the

@@ -86,7 +86,7 @@ impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS
                 .scene
                 .trees()
                 .get(i.tree as usize)
-                .is_some_and(|t| t.mask & mask != 0);
+                .is_some_and(|t| t.mask() & mask != 0);
             (
                 0,
                 path,

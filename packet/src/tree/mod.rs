@@ -20,8 +20,8 @@
 //! conservative: a box is skipped only when no kernel can report a hit inside it, including hits
 //! its rounding places slightly outside the exact primitive (the boxes carry a slack of
 //! [`SLACK`](octoray_core::bvh::SLACK), 2⁻¹⁷ of the coordinates' magnitude, ≈ 128 ulp, and the
-//! ray's origin adds its own; the slab test's roundings are covered by reciprocals widened by 2⁻²⁰,
-//! [`slab`]). A float tier's `t` can err by more than that slack (the kernels' contracts allow
+//! ray's origin adds its own; the slab test's roundings are covered by reciprocals widened by 2⁻²⁰).
+//! A float tier's `t` can err by more than that slack (the kernels' contracts allow
 //! `8·ε·max(t, reach)/(|cos θ|·sin α)`: a ray meeting a triangle at |cos θ|·sin α ≲ 1/16), and
 //! could then lie before a box that holds the primitive; every kernel raises such a `t` to the
 //! ray's entry into the primitive's own box (and a kernel that decides `t ≥ t_min` on its
