@@ -166,11 +166,41 @@ const NEXT_STEPS: &str = "\nWhat the next design step is, by the count that is o
 pub fn markdown(header: &str, counted: &[Counted], scenes_md: &str) -> String {
     let mut md = String::new();
     md.push_str(header);
-    let find = |scene: &str, rays: &str, system: &str, packets: bool| {
-        counted.iter().find(|c| {
-            c.scene == scene && c.rays == rays && c.system == system && c.packets == packets
-        })
-    };
+    counted_tables(&mut md, counted);
+    md.push_str("\n### Missed targets: octoray's row against the peer's, per ray\n\n");
+    md.push_str("Every target of `benches/scenes.md` whose ratio there is below the target, with both rows' counts per ray (octoray / peer) and, largest first, the counts where octoray's row has more than the target allows (more than 5 % over the peer's count divided by the target ratio: for \"≥ 1.2× Embree\", above 0.83× Embree's count), each as a multiple of the peer's count.\n\n");
+    md.push_str("| scene | target | ratio (scenes.md) | instructions | mispredicted | D1 misses | over the target's share |\n");
+    md.push_str("|---|---|---|---|---|---|---|\n");
+    let mut tally = Tally::default();
+    for (scene, name) in SCENES {
+        for t in TARGETS {
+            match reported_ratio(scenes_md, name, t) {
+                Some(ratio) if ratio < t.ratio => {
+                    missed_row(&mut md, &mut tally, counted, (scene, name), t, ratio)
+                }
+                _ => {}
+            }
+        }
+    }
+    md.push_str(NEXT_STEPS);
+    let Tally {
+        missed,
+        by_instr,
+        by_branch,
+        by_d1,
+        by_none,
+        uncounted,
+    } = tally;
+    writeln!(
+        md,
+        "\n{missed} targets missed; octoray's row is over the target's share of the peer's instructions in {by_instr}, of its mispredicted branches in {by_branch}, of its D1 misses in {by_d1}, and within it on all three in {by_none}; {uncounted} not counted."
+    )
+    .unwrap();
+    md
+}
+
+/// Per scene, a table of every counted row.
+fn counted_tables(md: &mut String, counted: &[Counted]) {
     for (scene, name) in SCENES {
         let rows: Vec<&Counted> = counted.iter().filter(|c| c.scene == scene).collect();
         if rows.is_empty() {
@@ -203,84 +233,81 @@ pub fn markdown(header: &str, counted: &[Counted], scenes_md: &str) -> String {
             .unwrap();
         }
     }
-    md.push_str("\n### Missed targets: octoray's row against the peer's, per ray\n\n");
-    md.push_str("Every target of `benches/scenes.md` whose ratio there is below the target, with both rows' counts per ray (octoray / peer) and, largest first, the counts where octoray's row has more than the target allows (more than 5 % over the peer's count divided by the target ratio: for \"≥ 1.2× Embree\", above 0.83× Embree's count), each as a multiple of the peer's count.\n\n");
-    md.push_str("| scene | target | ratio (scenes.md) | instructions | mispredicted | D1 misses | over the target's share |\n");
-    md.push_str("|---|---|---|---|---|---|---|\n");
-    let (mut missed, mut by_instr, mut by_branch, mut by_d1, mut by_none, mut uncounted) =
-        (0, 0, 0, 0, 0, 0);
-    for (scene, name) in SCENES {
-        for t in TARGETS {
-            let Some(ratio) = reported_ratio(scenes_md, name, t) else {
-                continue;
-            };
-            if ratio >= t.ratio {
-                continue;
-            }
-            missed += 1;
-            let pair = profile_args(t.octoray)
-                .zip(profile_args(t.peer))
-                .and_then(|(a, b)| find(scene, a.0, a.1, a.2).zip(find(scene, b.0, b.1, b.2)));
-            let Some((a, b)) = pair else {
-                uncounted += 1;
-                writeln!(
-                    md,
-                    "| {name} | {} | {ratio:.2}× | | | | not counted |",
-                    t.what
-                )
-                .unwrap();
-                continue;
-            };
-            let cols = [
-                (
-                    "instructions",
-                    a.per_ray(a.counts.instructions),
-                    b.per_ray(b.counts.instructions),
-                ),
-                (
-                    "mispredicted branches",
-                    a.per_ray(a.counts.mispredicted),
-                    b.per_ray(b.counts.mispredicted),
-                ),
-                (
-                    "D1 misses",
-                    a.per_ray(a.counts.d1_misses),
-                    b.per_ray(b.counts.d1_misses),
-                ),
-            ];
-            let mut over: Vec<(&str, f64)> = cols
-                .iter()
-                .filter(|c| c.1 > 1.05 * c.2 / t.ratio)
-                .map(|c| (c.0, c.1 / c.2.max(1e-9)))
-                .collect();
-            over.sort_by(|x, y| y.1.total_cmp(&x.1));
-            by_instr += usize::from(over.iter().any(|o| o.0 == "instructions"));
-            by_branch += usize::from(over.iter().any(|o| o.0 == "mispredicted branches"));
-            by_d1 += usize::from(over.iter().any(|o| o.0 == "D1 misses"));
-            by_none += usize::from(over.is_empty());
-            let more = if over.is_empty() {
-                "none: each is within the target's share".to_string()
-            } else {
-                over.iter()
-                    .map(|(n, r)| format!("{n} {r:.2}×"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            };
-            writeln!(
-                md,
-                "| {name} | {} | {ratio:.2}× | {:.0} / {:.0} | {:.2} / {:.2} | {:.2} / {:.2} | {more} |",
-                t.what, cols[0].1, cols[0].2, cols[1].1, cols[1].2, cols[2].1, cols[2].2
-            )
-            .unwrap();
-        }
-    }
-    md.push_str(NEXT_STEPS);
+}
+
+/// The missed targets: how many, by which count octoray's row is over the target's share, and
+/// how many had no counts.
+#[derive(Default)]
+struct Tally {
+    missed: usize,
+    by_instr: usize,
+    by_branch: usize,
+    by_d1: usize,
+    by_none: usize,
+    uncounted: usize,
+}
+
+/// One missed target's row: both rows' counts per ray and which of octoray's exceed the
+/// target's share of the peer's.
+fn missed_row(
+    md: &mut String,
+    tally: &mut Tally,
+    counted: &[Counted],
+    (scene, name): (&str, &str),
+    t: &Target,
+    ratio: f64,
+) {
+    tally.missed += 1;
+    let find = |(rays, system, packets): (&str, &str, bool)| {
+        counted.iter().find(|c| {
+            c.scene == scene && c.rays == rays && c.system == system && c.packets == packets
+        })
+    };
+    let pair = profile_args(t.octoray)
+        .and_then(find)
+        .zip(profile_args(t.peer).and_then(find));
+    let Some((a, b)) = pair else {
+        tally.uncounted += 1;
+        writeln!(
+            md,
+            "| {name} | {} | {ratio:.2}× | | | | not counted |",
+            t.what
+        )
+        .unwrap();
+        return;
+    };
+    let per_ray = |f: fn(&Counts) -> u64| (a.per_ray(f(&a.counts)), b.per_ray(f(&b.counts)));
+    let cols = [
+        ("instructions", per_ray(|c| c.instructions)),
+        ("mispredicted branches", per_ray(|c| c.mispredicted)),
+        ("D1 misses", per_ray(|c| c.d1_misses)),
+    ];
+    let mut over: Vec<(&str, f64)> = cols
+        .iter()
+        .filter(|(_, (own, peer))| *own > 1.05 * peer / t.ratio)
+        .map(|&(n, (own, peer))| (n, own / peer.max(1e-9)))
+        .collect();
+    over.sort_by(|x, y| y.1.total_cmp(&x.1));
+    let has = |n: &str| usize::from(over.iter().any(|o| o.0 == n));
+    tally.by_instr += has("instructions");
+    tally.by_branch += has("mispredicted branches");
+    tally.by_d1 += has("D1 misses");
+    tally.by_none += usize::from(over.is_empty());
+    let more = if over.is_empty() {
+        "none: each is within the target's share".to_string()
+    } else {
+        over.iter()
+            .map(|(n, r)| format!("{n} {r:.2}×"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let [(_, i), (_, m), (_, d)] = cols;
     writeln!(
         md,
-        "\n{missed} targets missed; octoray's row is over the target's share of the peer's instructions in {by_instr}, of its mispredicted branches in {by_branch}, of its D1 misses in {by_d1}, and within it on all three in {by_none}; {uncounted} not counted."
+        "| {name} | {} | {ratio:.2}× | {:.0} / {:.0} | {:.2} / {:.2} | {:.2} / {:.2} | {more} |",
+        t.what, i.0, i.1, m.0, m.1, d.0, d.1
     )
     .unwrap();
-    md
 }
 
 #[cfg(test)]
