@@ -129,9 +129,13 @@ fn layout_rows(
 }
 
 /// Refit after every vertex moved, one thread and all, and a rebuild: seconds.
-fn refit_times(s: &SceneSet, runs: usize, tree: &Bvh8<VertexTriangle>) -> [f64; 3] {
-    let verts = s.vertex_tris();
-    let (build, _) = best(runs, || Bvh8::build(&verts).stats().nodes as u64);
+fn refit_times(
+    s: &SceneSet,
+    runs: usize,
+    verts: &[VertexTriangle],
+    tree: &Bvh8<VertexTriangle>,
+) -> [f64; 3] {
+    let (build, _) = best(runs, || Bvh8::build(verts).stats().nodes as u64);
     let moved = wave(&s.tris, 1);
     let mut refit = tree.clone();
     let (one, _) = best(runs, || {
@@ -219,7 +223,8 @@ fn alpha_rates(runs: usize, tree: &Bvh8<VertexTriangle>, p8: &[Ray]) -> ([f64; 4
 
 /// Measures the section on `s`.
 pub fn measure(s: &SceneSet, runs: usize) -> ModelReport {
-    let tree = Bvh8::build(&s.vertex_tris());
+    let verts = s.vertex_tris();
+    let tree = Bvh8::build(&verts);
     let p8 = s.primary_tiled(0, 1024, 768, 4, 2);
     let bounce = s.diffuse_bounces(&p8, &tree);
     ModelReport {
@@ -227,7 +232,7 @@ pub fn measure(s: &SceneSet, runs: usize) -> ModelReport {
         geoms: scene_of(s, Layout::MeshesOneTree).geometries().len(),
         runs,
         layouts: layout_rows(s, runs, &tree, &p8, &bounce),
-        refit: refit_times(s, runs, &tree),
+        refit: refit_times(s, runs, &verts, &tree),
         frames: frames(s, runs, &tree, &p8, &bounce),
         alpha: alpha_rates(runs, &tree, &p8),
     }
