@@ -14,14 +14,15 @@ use core::ffi::c_char;
 
 use octoray::glam::{Affine3A, Mat3A, Vec3, Vec3A};
 use octoray::hit::Hit;
-use octoray::kernels::{Exact, MollerTrumbore, StableSphere, Watertight};
-use octoray::lanes::{LaneMask, Lanes};
-use octoray::prim::{PackedSphere, PackedTriangle, Ray, RayLanes, VertexTriangle};
-use octoray::scene::{Scene, SceneRef, Trace, Transform};
+use octoray::prim::{PackedSphere, PackedTriangle, Ray, VertexTriangle};
+use octoray::scene::{Scene, SceneRef, Transform};
 use octoray::{f32x16, f32x8};
 
 mod status;
 mod store;
+mod trace;
+
+use trace::{Closest, Occluded};
 
 /// What a call answered.
 #[repr(C)]
@@ -362,6 +363,18 @@ unsafe fn slice_mut<'a, T>(
     Ok(unsafe { core::slice::from_raw_parts_mut(ptr, n) })
 }
 
+/// An output pointer, or [`OctorayStatus::NullPointer`] naming it.
+fn null_check<T>(p: *mut T, call: &str, what: &str) -> Result<*mut T, OctorayStatus> {
+    if p.is_null() {
+        Err(fail(
+            OctorayStatus::NullPointer,
+            format!("{call}: {what} is null"),
+        ))
+    } else {
+        Ok(p)
+    }
+}
+
 /// Writes `value` through an output pointer that the caller checked is non-null.
 ///
 /// # Safety
@@ -629,27 +642,6 @@ impl OctorayScene {
     }
 }
 
-/// Dispatches `$body` over the view's layout and the scene's tier: `$s` is the scene, `$KT`
-/// the triangle kernel.
-macro_rules! traced {
-    ($scene:expr, $view:expr, |$s:ident, $KT:ident| $body:expr) => {
-        match ($view, $scene.tier) {
-            (View::Packed($s), _) => {
-                type $KT = MollerTrumbore;
-                $body
-            }
-            (View::Vertex($s), OctorayTier::Exact) => {
-                type $KT = Exact;
-                $body
-            }
-            (View::Vertex($s), _) => {
-                type $KT = Watertight;
-                $body
-            }
-        }
-    };
-}
-
 /// The closest hit of one ray whose geometry and instance masks share a bit with `mask`.
 ///
 /// # Safety
@@ -662,31 +654,8 @@ pub unsafe extern "C" fn octoray_closest1(
     mask: u32,
     hit: *mut OctorayHit,
 ) -> OctorayStatus {
-    const CALL: &str = "octoray_closest1";
-    run(|| {
-        // SAFETY: the function's contract.
-        let s = unsafe { scene_ref(scene, CALL) }?;
-        // SAFETY: the function's contract.
-        let r = unsafe { slice(ray, 1, CALL, "ray") }?;
-        let out = null_check(hit, CALL, "hit")?;
-        let r = Ray::from(&r[0]);
-        let h = traced!(s, s.view(CALL)?, |sc, KT| sc
-            .closest_ray::<f32x8, KT, StableSphere>(&r, mask));
-        // SAFETY: non-null and, by the contract, valid for writing.
-        unsafe { put(out, OctorayHit::from(h)) };
-        Ok(())
-    })
-}
-
-fn null_check<T>(p: *mut T, call: &str, what: &str) -> Result<*mut T, OctorayStatus> {
-    if p.is_null() {
-        Err(fail(
-            OctorayStatus::NullPointer,
-            format!("{call}: {what} is null"),
-        ))
-    } else {
-        Ok(p)
-    }
+    // SAFETY: the same contract.
+    unsafe { trace::one::<Closest>("octoray_closest1", scene, ray, mask, hit) }
 }
 
 /// Whether one ray hits anything in its range (occlusion): `*occluded` is 1 or 0.
@@ -701,20 +670,8 @@ pub unsafe extern "C" fn octoray_occluded1(
     mask: u32,
     occluded: *mut u8,
 ) -> OctorayStatus {
-    const CALL: &str = "octoray_occluded1";
-    run(|| {
-        // SAFETY: the function's contract.
-        let s = unsafe { scene_ref(scene, CALL) }?;
-        // SAFETY: the function's contract.
-        let r = unsafe { slice(ray, 1, CALL, "ray") }?;
-        let out = null_check(occluded, CALL, "occluded")?;
-        let r = Ray::from(&r[0]);
-        let o = traced!(s, s.view(CALL)?, |sc, KT| sc
-            .occluded_ray::<f32x8, KT, StableSphere>(&r, mask));
-        // SAFETY: non-null and, by the contract, valid for writing.
-        unsafe { put(out, u8::from(o)) };
-        Ok(())
-    })
+    // SAFETY: the same contract.
+    unsafe { trace::one::<Occluded>("octoray_occluded1", scene, ray, mask, occluded) }
 }
 
 /// The closest hit of each of `count` rays (`hits[i]` for `rays[i]`), in 8-ray packets where
@@ -731,27 +688,8 @@ pub unsafe extern "C" fn octoray_closest(
     mask: u32,
     hits: *mut OctorayHit,
 ) -> OctorayStatus {
-    const CALL: &str = "octoray_closest";
-    run(|| {
-        // SAFETY: the function's contract.
-        let s = unsafe { scene_ref(scene, CALL) }?;
-        // SAFETY: the function's contract.
-        let rays = unsafe { slice(rays, count, CALL, "rays") }?;
-        // SAFETY: the function's contract.
-        let hits = unsafe { slice_mut(hits, count, CALL, "hits") }?;
-        let view = s.view(CALL)?;
-        let mut got = vec![None; 256.min(count)];
-        for (rs, hs) in rays.chunks(256).zip(hits.chunks_mut(256)) {
-            let rs: Vec<Ray> = rs.iter().map(Ray::from).collect();
-            let got = &mut got[..rs.len()];
-            traced!(s, &view, |sc, KT| sc
-                .closest::<f32x8, KT, StableSphere>(&rs, mask, got));
-            for (h, g) in hs.iter_mut().zip(got.iter()) {
-                *h = OctorayHit::from(*g);
-            }
-        }
-        Ok(())
-    })
+    // SAFETY: the same contract.
+    unsafe { trace::many::<Closest>("octoray_closest", scene, rays, count, mask, hits) }
 }
 
 /// Occlusion of each of `count` rays (`occluded[i]` is 1 or 0), packets as
@@ -768,129 +706,8 @@ pub unsafe extern "C" fn octoray_occluded(
     mask: u32,
     occluded: *mut u8,
 ) -> OctorayStatus {
-    const CALL: &str = "octoray_occluded";
-    run(|| {
-        // SAFETY: the function's contract.
-        let s = unsafe { scene_ref(scene, CALL) }?;
-        // SAFETY: the function's contract.
-        let rays = unsafe { slice(rays, count, CALL, "rays") }?;
-        // SAFETY: the function's contract.
-        let out = unsafe { slice_mut(occluded, count, CALL, "occluded") }?;
-        let view = s.view(CALL)?;
-        let mut got = vec![false; 256.min(count)];
-        for (rs, os) in rays.chunks(256).zip(out.chunks_mut(256)) {
-            let rs: Vec<Ray> = rs.iter().map(Ray::from).collect();
-            let got = &mut got[..rs.len()];
-            traced!(s, &view, |sc, KT| sc
-                .occluded::<f32x8, KT, StableSphere>(&rs, mask, got));
-            for (o, g) in os.iter_mut().zip(got.iter()) {
-                *o = u8::from(*g);
-            }
-        }
-        Ok(())
-    })
-}
-
-/// One packet's closest hits at `L` lanes.
-fn closest_n<L: Lanes, const N: usize>(
-    s: &OctorayScene,
-    view: View<'_>,
-    p: &OctorayRays<N>,
-    mask: u32,
-) -> OctorayHits<N>
-where
-    MollerTrumbore: octoray::kernels::Kernel<L, Prim = PackedTriangle>,
-    Watertight: octoray::kernels::Kernel<L, Prim = VertexTriangle>,
-    Exact: octoray::kernels::Kernel<L, Prim = VertexTriangle>,
-    StableSphere: octoray::kernels::Kernel<L, Prim = PackedSphere>,
-{
-    let rays: [Ray; N] = core::array::from_fn(|i| p.ray(i));
-    let lanes = RayLanes::<L>::load(&rays);
-    let h = traced!(s, view, |sc, KT| sc
-        .closest_packet::<L, KT, StableSphere>(&lanes, mask));
-    OctorayHits::from(core::array::from_fn::<_, N, _>(|i| {
-        OctorayHit::from(h.lane(i))
-    }))
-}
-
-/// One packet's occlusion at `L` lanes, as a lane bit mask.
-fn occluded_n<L: Lanes, const N: usize>(
-    s: &OctorayScene,
-    view: View<'_>,
-    p: &OctorayRays<N>,
-    mask: u32,
-) -> u32
-where
-    MollerTrumbore: octoray::kernels::Kernel<L, Prim = PackedTriangle>,
-    Watertight: octoray::kernels::Kernel<L, Prim = VertexTriangle>,
-    Exact: octoray::kernels::Kernel<L, Prim = VertexTriangle>,
-    StableSphere: octoray::kernels::Kernel<L, Prim = PackedSphere>,
-{
-    let rays: [Ray; N] = core::array::from_fn(|i| p.ray(i));
-    let lanes = RayLanes::<L>::load(&rays);
-    let m = traced!(s, view, |sc, KT| sc
-        .occluded_packet::<L, KT, StableSphere>(&lanes, mask));
-    m.bitmask() as u32
-}
-
-/// The body of the closest-hit packet calls.
-///
-/// # Safety
-/// As theirs.
-unsafe fn closest_call<L: Lanes, const N: usize>(
-    call: &str,
-    scene: *const OctorayScene,
-    rays: *const OctorayRays<N>,
-    mask: u32,
-    hits: *mut OctorayHits<N>,
-) -> OctorayStatus
-where
-    MollerTrumbore: octoray::kernels::Kernel<L, Prim = PackedTriangle>,
-    Watertight: octoray::kernels::Kernel<L, Prim = VertexTriangle>,
-    Exact: octoray::kernels::Kernel<L, Prim = VertexTriangle>,
-    StableSphere: octoray::kernels::Kernel<L, Prim = PackedSphere>,
-{
-    run(|| {
-        // SAFETY: the caller's contract.
-        let s = unsafe { scene_ref(scene, call) }?;
-        // SAFETY: the caller's contract.
-        let p = unsafe { slice(rays, 1, call, "rays") }?;
-        let out = null_check(hits, call, "hits")?;
-        let h = closest_n::<L, N>(s, s.view(call)?, &p[0], mask);
-        // SAFETY: non-null and, by the contract, valid for writing.
-        unsafe { put(out, h) };
-        Ok(())
-    })
-}
-
-/// The body of the occlusion packet calls.
-///
-/// # Safety
-/// As theirs.
-unsafe fn occluded_call<L: Lanes, const N: usize>(
-    call: &str,
-    scene: *const OctorayScene,
-    rays: *const OctorayRays<N>,
-    mask: u32,
-    occluded: *mut u32,
-) -> OctorayStatus
-where
-    MollerTrumbore: octoray::kernels::Kernel<L, Prim = PackedTriangle>,
-    Watertight: octoray::kernels::Kernel<L, Prim = VertexTriangle>,
-    Exact: octoray::kernels::Kernel<L, Prim = VertexTriangle>,
-    StableSphere: octoray::kernels::Kernel<L, Prim = PackedSphere>,
-{
-    run(|| {
-        // SAFETY: the caller's contract.
-        let s = unsafe { scene_ref(scene, call) }?;
-        // SAFETY: the caller's contract.
-        let p = unsafe { slice(rays, 1, call, "rays") }?;
-        let out = null_check(occluded, call, "occluded")?;
-        let m = occluded_n::<L, N>(s, s.view(call)?, &p[0], mask);
-        // SAFETY: non-null and, by the contract, valid for writing.
-        unsafe { put(out, m) };
-        Ok(())
-    })
+    // SAFETY: the same contract.
+    unsafe { trace::many::<Occluded>("octoray_occluded", scene, rays, count, mask, occluded) }
 }
 
 /// The closest hits of an 8-ray SoA packet (every lane traced; an empty range is a miss).
@@ -906,7 +723,7 @@ pub unsafe extern "C" fn octoray_closest8(
     hits: *mut OctorayHit8,
 ) -> OctorayStatus {
     // SAFETY: the same contract.
-    unsafe { closest_call::<f32x8, 8>("octoray_closest8", scene, rays, mask, hits) }
+    unsafe { trace::packet::<Closest, f32x8, 8>("octoray_closest8", scene, rays, mask, hits) }
 }
 
 /// The closest hits of a 16-ray SoA packet (every lane traced; an empty range is a miss).
@@ -922,7 +739,7 @@ pub unsafe extern "C" fn octoray_closest16(
     hits: *mut OctorayHit16,
 ) -> OctorayStatus {
     // SAFETY: the same contract.
-    unsafe { closest_call::<f32x16, 16>("octoray_closest16", scene, rays, mask, hits) }
+    unsafe { trace::packet::<Closest, f32x16, 16>("octoray_closest16", scene, rays, mask, hits) }
 }
 
 /// Occlusion of an 8-ray SoA packet: bit `i` of `*occluded` is lane `i`'s answer.
@@ -938,7 +755,7 @@ pub unsafe extern "C" fn octoray_occluded8(
     occluded: *mut u32,
 ) -> OctorayStatus {
     // SAFETY: the same contract.
-    unsafe { occluded_call::<f32x8, 8>("octoray_occluded8", scene, rays, mask, occluded) }
+    unsafe { trace::packet::<Occluded, f32x8, 8>("octoray_occluded8", scene, rays, mask, occluded) }
 }
 
 /// Occlusion of a 16-ray SoA packet: bit `i` of `*occluded` is lane `i`'s answer.
@@ -954,7 +771,9 @@ pub unsafe extern "C" fn octoray_occluded16(
     occluded: *mut u32,
 ) -> OctorayStatus {
     // SAFETY: the same contract.
-    unsafe { occluded_call::<f32x16, 16>("octoray_occluded16", scene, rays, mask, occluded) }
+    unsafe {
+        trace::packet::<Occluded, f32x16, 16>("octoray_occluded16", scene, rays, mask, occluded)
+    }
 }
 
 /// Stores a committed scene as bytes: with `bytes` null, `*len` receives the size needed;

@@ -1,0 +1,255 @@
+//! The bodies of the trace calls: one ray, an array of rays and one 8- or 16-ray packet, each
+//! written once for both questions (closest hit, occlusion) and dispatched over the scene's
+//! layout and tier.
+use octoray::f32x8;
+use octoray::kernels::{Exact, Kernel, MollerTrumbore, StableSphere, Watertight};
+use octoray::lanes::{LaneMask, Lanes};
+use octoray::prim::{PackedSphere, PackedTriangle, Ray, RayLanes, VertexTriangle};
+use octoray::scene::Trace;
+
+use crate::{
+    null_check, put, run, scene_ref, slice, slice_mut, OctorayHit, OctorayHits, OctorayRay,
+    OctorayRays, OctorayScene, OctorayStatus, OctorayTier, View,
+};
+
+/// Dispatches `$body` over the view's layout and the scene's tier: `$s` is the scene, `$KT`
+/// the triangle kernel.
+macro_rules! traced {
+    ($scene:expr, $view:expr, |$s:ident, $KT:ident| $body:expr) => {
+        match ($view, $scene.tier) {
+            (View::Packed($s), _) => {
+                type $KT = MollerTrumbore;
+                $body
+            }
+            (View::Vertex($s), OctorayTier::Exact) => {
+                type $KT = Exact;
+                $body
+            }
+            (View::Vertex($s), _) => {
+                type $KT = Watertight;
+                $body
+            }
+        }
+    };
+}
+
+/// What a trace call asks of each ray, and how C receives the answer.
+pub(crate) trait Query {
+    /// The answer for one ray.
+    type Answer: Copy;
+    /// What C receives for one ray.
+    type Out: From<Self::Answer>;
+    /// What C receives for an `N`-ray packet.
+    type Packet<const N: usize>;
+    /// The placeholder an answer buffer starts with.
+    const NONE: Self::Answer;
+    /// The name of a one-ray call's output parameter, for error messages.
+    const ONE: &'static str;
+    /// The name of an array or packet call's output parameter.
+    const MANY: &'static str;
+
+    /// One ray's answer, single-ray walk at 8 lanes.
+    fn ray<T, KT: Kernel<f32x8, Prim = T>>(
+        scene: &impl Trace<T, PackedSphere>,
+        ray: &Ray,
+        mask: u32,
+    ) -> Self::Answer;
+
+    /// The answers of `rays` (`got[i]` for `rays[i]`), packet-traced at 8 lanes.
+    fn rays<T, KT: Kernel<f32x8, Prim = T>>(
+        scene: &impl Trace<T, PackedSphere>,
+        rays: &[Ray],
+        mask: u32,
+        got: &mut [Self::Answer],
+    );
+
+    /// One packet's answer at `L` lanes.
+    fn packet<T, L: Lanes, KT: Kernel<L, Prim = T>, const N: usize>(
+        scene: &impl Trace<T, PackedSphere>,
+        rays: &RayLanes<L>,
+        mask: u32,
+    ) -> Self::Packet<N>
+    where
+        StableSphere: Kernel<L, Prim = PackedSphere>;
+}
+
+/// The closest hit: an [`OctorayHit`] per ray.
+pub(crate) enum Closest {}
+
+impl Query for Closest {
+    type Answer = Option<octoray::hit::Hit>;
+    type Out = OctorayHit;
+    type Packet<const N: usize> = OctorayHits<N>;
+    const NONE: Self::Answer = None;
+    const ONE: &'static str = "hit";
+    const MANY: &'static str = "hits";
+
+    fn ray<T, KT: Kernel<f32x8, Prim = T>>(
+        scene: &impl Trace<T, PackedSphere>,
+        ray: &Ray,
+        mask: u32,
+    ) -> Self::Answer {
+        scene.closest_ray::<f32x8, KT, StableSphere>(ray, mask)
+    }
+
+    fn rays<T, KT: Kernel<f32x8, Prim = T>>(
+        scene: &impl Trace<T, PackedSphere>,
+        rays: &[Ray],
+        mask: u32,
+        got: &mut [Self::Answer],
+    ) {
+        scene.closest::<f32x8, KT, StableSphere>(rays, mask, got);
+    }
+
+    fn packet<T, L: Lanes, KT: Kernel<L, Prim = T>, const N: usize>(
+        scene: &impl Trace<T, PackedSphere>,
+        rays: &RayLanes<L>,
+        mask: u32,
+    ) -> Self::Packet<N>
+    where
+        StableSphere: Kernel<L, Prim = PackedSphere>,
+    {
+        let h = scene.closest_packet::<L, KT, StableSphere>(rays, mask);
+        OctorayHits::from(core::array::from_fn::<_, N, _>(|i| {
+            OctorayHit::from(h.lane(i))
+        }))
+    }
+}
+
+/// Occlusion: a byte (1 or 0) per ray, one bit per lane for a packet.
+pub(crate) enum Occluded {}
+
+impl Query for Occluded {
+    type Answer = bool;
+    type Out = u8;
+    type Packet<const N: usize> = u32;
+    const NONE: Self::Answer = false;
+    const ONE: &'static str = "occluded";
+    const MANY: &'static str = "occluded";
+
+    fn ray<T, KT: Kernel<f32x8, Prim = T>>(
+        scene: &impl Trace<T, PackedSphere>,
+        ray: &Ray,
+        mask: u32,
+    ) -> Self::Answer {
+        scene.occluded_ray::<f32x8, KT, StableSphere>(ray, mask)
+    }
+
+    fn rays<T, KT: Kernel<f32x8, Prim = T>>(
+        scene: &impl Trace<T, PackedSphere>,
+        rays: &[Ray],
+        mask: u32,
+        got: &mut [Self::Answer],
+    ) {
+        scene.occluded::<f32x8, KT, StableSphere>(rays, mask, got);
+    }
+
+    fn packet<T, L: Lanes, KT: Kernel<L, Prim = T>, const N: usize>(
+        scene: &impl Trace<T, PackedSphere>,
+        rays: &RayLanes<L>,
+        mask: u32,
+    ) -> Self::Packet<N>
+    where
+        StableSphere: Kernel<L, Prim = PackedSphere>,
+    {
+        scene
+            .occluded_packet::<L, KT, StableSphere>(rays, mask)
+            .bitmask()
+    }
+}
+
+/// The body of a one-ray call: `*out` answers `*ray`.
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `ray` is valid for reading, `out` for
+/// writing.
+pub(crate) unsafe fn one<Q: Query>(
+    call: &str,
+    scene: *const OctorayScene,
+    ray: *const OctorayRay,
+    mask: u32,
+    out: *mut Q::Out,
+) -> OctorayStatus {
+    run(|| {
+        // SAFETY: the caller's contract.
+        let s = unsafe { scene_ref(scene, call) }?;
+        // SAFETY: the caller's contract.
+        let r = unsafe { slice(ray, 1, call, "ray") }?;
+        let out = null_check(out, call, Q::ONE)?;
+        let r = Ray::from(&r[0]);
+        let a = traced!(s, s.view(call)?, |sc, KT| Q::ray::<_, KT>(&sc, &r, mask));
+        // SAFETY: non-null and, by the contract, valid for writing.
+        unsafe { put(out, Q::Out::from(a)) };
+        Ok(())
+    })
+}
+
+/// The body of an array call: `out[i]` answers `rays[i]`, in chunks of 256 rays.
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `rays` is valid for reading `count` rays,
+/// `out` for writing `count` answers.
+pub(crate) unsafe fn many<Q: Query>(
+    call: &str,
+    scene: *const OctorayScene,
+    rays: *const OctorayRay,
+    count: usize,
+    mask: u32,
+    out: *mut Q::Out,
+) -> OctorayStatus {
+    const CHUNK: usize = 256;
+    run(|| {
+        // SAFETY: the caller's contract.
+        let s = unsafe { scene_ref(scene, call) }?;
+        // SAFETY: the caller's contract.
+        let rays = unsafe { slice(rays, count, call, "rays") }?;
+        // SAFETY: the caller's contract.
+        let out = unsafe { slice_mut(out, count, call, Q::MANY) }?;
+        let view = s.view(call)?;
+        let mut got = vec![Q::NONE; CHUNK.min(count)];
+        for (rs, os) in rays.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
+            let rs: Vec<Ray> = rs.iter().map(Ray::from).collect();
+            let got = &mut got[..rs.len()];
+            traced!(s, &view, |sc, KT| Q::rays::<_, KT>(sc, &rs, mask, got));
+            for (o, g) in os.iter_mut().zip(got.iter()) {
+                *o = Q::Out::from(*g);
+            }
+        }
+        Ok(())
+    })
+}
+
+/// The body of an `N`-ray packet call at `L` lanes: `*out` answers the packet `*rays`.
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `rays` is valid for reading one packet,
+/// `out` for writing one answer.
+pub(crate) unsafe fn packet<Q: Query, L: Lanes, const N: usize>(
+    call: &str,
+    scene: *const OctorayScene,
+    rays: *const OctorayRays<N>,
+    mask: u32,
+    out: *mut Q::Packet<N>,
+) -> OctorayStatus
+where
+    MollerTrumbore: Kernel<L, Prim = PackedTriangle>,
+    Watertight: Kernel<L, Prim = VertexTriangle>,
+    Exact: Kernel<L, Prim = VertexTriangle>,
+    StableSphere: Kernel<L, Prim = PackedSphere>,
+{
+    run(|| {
+        // SAFETY: the caller's contract.
+        let s = unsafe { scene_ref(scene, call) }?;
+        // SAFETY: the caller's contract.
+        let p = unsafe { slice(rays, 1, call, "rays") }?;
+        let out = null_check(out, call, Q::MANY)?;
+        let rays: [Ray; N] = core::array::from_fn(|i| p[0].ray(i));
+        let lanes = RayLanes::<L>::load(&rays);
+        let a = traced!(s, s.view(call)?, |sc, KT| Q::packet::<_, L, KT, N>(
+            &sc, &lanes, mask
+        ));
+        // SAFETY: non-null and, by the contract, valid for writing.
+        unsafe { put(out, a) };
+        Ok(())
+    })
+}
