@@ -5,7 +5,8 @@
 //! index, so the same input gives the same tree bit for bit on every build; with threads
 //! ([`Bvh8::try_build_on`]) too, since each half of a split only touches its own items.
 
-use super::{Bvh8Node, Bvh8Ref, BvhError, MAX_DEPTH, MAX_PRIMS, PAD, WIDTH};
+use super::collapse::{collapse, widen, Wide};
+use super::{Bvh8Node, Bvh8Ref, BvhError, MAX_DEPTH, MAX_PRIMS, PAD};
 use crate::prim::{Aabb, Primitive, BLOCK};
 use alloc::vec;
 use alloc::vec::Vec;
@@ -149,15 +150,20 @@ impl Join for Sequential {
     }
 }
 
-struct BinNode {
-    bounds: Aabb,
+/// A node of the binary tree the build splits into (collapsed into 8-wide nodes after).
+pub(super) struct BinNode {
+    /// Its items' union box.
+    pub(super) bounds: Aabb,
     /// The largest magnitude of its items' whole primitives ([`Item::m`]).
-    m: f32,
-    /// Inner: children; leaf: `usize::MAX`, with `start..start + count` in `refs`.
-    left: usize,
-    right: usize,
-    start: usize,
-    count: usize,
+    pub(super) m: f32,
+    /// Inner: children; leaf: `usize::MAX`, with `start..start + count` in the items.
+    pub(super) left: usize,
+    /// Inner: the right child.
+    pub(super) right: usize,
+    /// Leaf: its first item.
+    pub(super) start: usize,
+    /// Leaf: its item count.
+    pub(super) count: usize,
 }
 
 impl<P: Primitive> Bvh8<P> {
@@ -218,122 +224,16 @@ impl<P: Primitive> Bvh8<P> {
             }
         }
         let skipped = prims.len() - refs.len();
-        // `refs` holds slice indices; each item carries its box and centre (so the build's passes
-        // read memory in order) and `local`, its index in `refs`.
-        let mut items: Vec<Item> = boxes
-            .iter()
-            .enumerate()
-            .map(|(k, b)| Item {
-                bx: *b,
-                c: b.center(),
-                local: k as u32,
-                m: b.magnitude(),
-            })
-            .collect();
-        let level = Level {
-            depth: 0,
-            max_leaf: P::LEAF.clamp(1, BLOCK),
-        };
-        let budget = options.budget(items.len());
-        let bin = if items.is_empty() {
-            Vec::new()
-        } else if budget == 0 {
-            subtree(&mut items, 0, level, join)
-        } else {
-            let spatial = Spatial {
-                prims,
-                refs: &refs,
-                root_area: boxes
-                    .iter()
-                    .fold(Aabb::EMPTY, |a, &b| a.union(b))
-                    .half_area(),
-            };
-            let (bin, placed, _) =
-                spatial.subtree(core::mem::take(&mut items), budget, level, join);
-            items = placed;
-            bin
-        };
-
-        // Collapse into 8-wide nodes, parents before children; each leaf's primitives go out in
-        // whole SoA blocks as the leaf is placed.
-        let mut nodes = Vec::new();
-        let mut blocks: Vec<[f32; BLOCK]> = Vec::new();
-        let mut ids: Vec<u32> = Vec::new();
-        let mut chunk: Vec<P> = Vec::with_capacity(BLOCK);
+        let (bin, items) = binary(prims, &boxes, &refs, options, join);
         let mut stats = BuildStats {
             prims: refs.len(),
             skipped,
             references: items.len(),
             ..BuildStats::default()
         };
-        if !bin.is_empty() {
-            let root_area = bin[0].bounds.half_area().max(f32::MIN_POSITIVE);
-            // Work list: (binary node to expand into a wide node, wide node slot to fill, depth).
-            nodes.push(Bvh8Node::EMPTY);
-            let mut work = vec![(0usize, 0usize, 1usize)];
-            stats.sah_cost += 1.0;
-            while let Some((b, w, depth)) = work.pop() {
-                stats.depth = stats.depth.max(depth);
-                let mut kids: Vec<usize> = if bin[b].left == usize::MAX {
-                    vec![b] // a lone leaf under the root
-                } else {
-                    vec![bin[b].left, bin[b].right]
-                };
-                // Open the inner child with the largest area until the node is full.
-                while kids.len() < WIDTH {
-                    let pick = kids
-                        .iter()
-                        .enumerate()
-                        .filter(|(_, &k)| bin[k].left != usize::MAX)
-                        .max_by(|a, c| {
-                            let (x, y) =
-                                (bin[*a.1].bounds.half_area(), bin[*c.1].bounds.half_area());
-                            // Larger area first; on ties the earlier slot (max_by keeps the last).
-                            x.total_cmp(&y).then(c.0.cmp(&a.0))
-                        })
-                        .map(|(i, _)| i);
-                    let Some(i) = pick else { break };
-                    let k = kids.remove(i);
-                    kids.insert(i, bin[k].right);
-                    kids.insert(i, bin[k].left);
-                }
-                let mut node = Bvh8Node::EMPTY;
-                for (s, &k) in kids.iter().enumerate() {
-                    let (lo, hi) = widen(bin[k].bounds, bin[k].m);
-                    for a in 0..3 {
-                        node.lo[a][s] = lo[a];
-                        node.hi[a][s] = hi[a];
-                    }
-                    let area = bin[k].bounds.half_area() / root_area;
-                    if bin[k].left == usize::MAX {
-                        let (start, count) = (bin[k].start, bin[k].count);
-                        node.child[s] = ids.len() as u32;
-                        node.count[s] = count as u32;
-                        for part in items[start..start + count].chunks(BLOCK) {
-                            chunk.clear();
-                            chunk.extend(
-                                part.iter().map(|i| prims[refs[i.local as usize] as usize]),
-                            );
-                            let at = blocks.len();
-                            blocks.resize(at + P::WORDS, [0.0; BLOCK]);
-                            P::write_block(&chunk, &mut blocks[at..]);
-                            ids.extend(part.iter().map(|i| refs[i.local as usize]));
-                            ids.resize(ids.len().next_multiple_of(BLOCK), PAD);
-                        }
-                        stats.leaves += 1;
-                        stats.sah_cost += area * bin[k].count as f32;
-                    } else {
-                        node.child[s] = nodes.len() as u32;
-                        node.count[s] = 0;
-                        stats.sah_cost += area;
-                        nodes.push(Bvh8Node::EMPTY);
-                        work.push((k, nodes.len() - 1, depth + 1));
-                    }
-                }
-                node.set_order();
-                nodes[w] = node;
-            }
-        }
+        let Wide {
+            nodes, blocks, ids, ..
+        } = collapse(&bin, &items, &refs, prims, &mut stats);
         if ids.len() > MAX_PRIMS {
             // Leaf padding took the block slots past u32 indices.
             return Err(BvhError::TooManyPrims(ids.len()));
@@ -549,14 +449,62 @@ fn refit_blocks<P: Primitive + Sync, J: Join>(
     }
 }
 
+/// The binary tree over the primitives with finite `boxes` (`refs`: their indices in `prims`),
+/// root first, and its items in leaf order (more than `refs` when spatial splits place a
+/// primitive in several leaves).
+fn binary<P: Primitive, J: Join>(
+    prims: &[P],
+    boxes: &[Aabb],
+    refs: &[u32],
+    options: BuildOptions,
+    join: &J,
+) -> (Vec<BinNode>, Vec<Item>) {
+    // `refs` holds slice indices; each item carries its box and centre (so the build's passes
+    // read memory in order) and `local`, its index in `refs`.
+    let mut items: Vec<Item> = boxes
+        .iter()
+        .enumerate()
+        .map(|(k, b)| Item {
+            bx: *b,
+            c: b.center(),
+            local: k as u32,
+            m: b.magnitude(),
+        })
+        .collect();
+    let level = Level {
+        depth: 0,
+        max_leaf: P::LEAF.clamp(1, BLOCK),
+    };
+    let budget = options.budget(items.len());
+    let bin = if items.is_empty() {
+        Vec::new()
+    } else if budget == 0 {
+        subtree(&mut items, 0, level, join)
+    } else {
+        let spatial = Spatial {
+            prims,
+            refs,
+            root_area: boxes
+                .iter()
+                .fold(Aabb::EMPTY, |a, &b| a.union(b))
+                .half_area(),
+        };
+        let (bin, placed, _) = spatial.subtree(core::mem::take(&mut items), budget, level, join);
+        items = placed;
+        bin
+    };
+    (bin, items)
+}
+
 /// A primitive's box and centre during the build, and its index in `refs`. With spatial splits
 /// an item is a reference: the box of the part of its primitive in a node, and `m`, the largest
 /// coordinate magnitude of the whole primitive (what the box slack scales with).
 #[derive(Clone, Copy)]
-struct Item {
+pub(super) struct Item {
     bx: Aabb,
     c: [f32; 3],
-    local: u32,
+    /// Its primitive's index in `refs`.
+    pub(super) local: u32,
     m: f32,
 }
 
@@ -1049,17 +997,4 @@ fn partition(items: &mut [Item], scratch: &mut Vec<Item>, left: impl Fn(&Item) -
     }
     items[k..].copy_from_slice(scratch);
     k
-}
-
-/// The box slack of a box at build time: `lo`, `hi` moved outward by [`super::SLACK`] of the
-/// largest coordinate magnitude of the box and of `m` (its primitives' whole boxes, when a
-/// spatial split clipped them: a kernel's margin scales with the primitive, not the part),
-/// then by one ulp.
-fn widen(bx: Aabb, m: f32) -> ([f32; 3], [f32; 3]) {
-    let (lo, hi) = (bx.lo, bx.hi);
-    let delta = bx.magnitude().max(m) * super::SLACK;
-    (
-        core::array::from_fn(|k| (lo[k] - delta).next_down()),
-        core::array::from_fn(|k| (hi[k] + delta).next_up()),
-    )
 }

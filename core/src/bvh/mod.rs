@@ -41,6 +41,7 @@
 
 #[cfg(feature = "alloc")]
 mod build;
+mod collapse;
 
 use crate::prim::{Primitive, BLOCK};
 
