@@ -14,7 +14,7 @@
 use indicatif::{ProgressBar, ProgressStyle};
 use octoray::kernels::{Exact, MollerTrumbore, Watertight};
 use octoray::{f32x16, f32x4, f32x8};
-use octoray_demo::cli::{self, parse, scene_for, USAGE};
+use octoray_demo::cli::{self, parse, scene_for, Options, USAGE};
 use octoray_demo::scene::{
     export, render_with, resolve_tier, write_png, F64Width, Image, Scene, Tracer, Width,
 };
@@ -66,40 +66,26 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let scene = match scene_for(&o) {
-        Ok(s) => s,
-        Err(msg) => {
-            eprintln!("render: {msg}");
-            return ExitCode::from(1);
-        }
-    };
-    let (tier, lanes, why) = match resolve_tier(&scene, o.tier, o.lanes) {
-        Ok(t) => t,
-        Err(msg) => {
-            eprintln!("render: {msg}");
-            return ExitCode::from(1);
-        }
-    };
-    let tracer = match Tracer::new(tier, lanes) {
-        Ok(t) => t,
-        Err(msg) => {
-            eprintln!("render: {msg}\n{USAGE}");
-            return ExitCode::from(2);
-        }
-    };
-    // The output is checked before tracing (see `cli::open_output`).
-    let out_file = match cli::open_output(&o) {
-        Ok(f) => f,
+    match run(&o) {
+        Ok(()) => ExitCode::SUCCESS,
         Err((code, msg)) => {
             eprintln!("render: {msg}");
-            return ExitCode::from(code);
+            ExitCode::from(code)
         }
-    };
+    }
+}
+
+/// Renders as `o` says, writes the PNG and prints the summary; on failure the exit code and
+/// the message.
+fn run(o: &Options) -> Result<(), (u8, String)> {
+    let fail = |msg| (1, msg);
+    let scene = scene_for(o).map_err(fail)?;
+    let (tier, lanes, why) = resolve_tier(&scene, o.tier, o.lanes).map_err(fail)?;
+    let tracer = Tracer::new(tier, lanes).map_err(|msg| (2, format!("{msg}\n{USAGE}")))?;
+    // The output is checked before tracing (see `cli::open_output`).
+    let out_file = cli::open_output(o)?;
     if let Some(dir) = &o.export {
-        if let Err(msg) = export(&scene, tier, o.width, o.height, dir) {
-            eprintln!("render: {msg}");
-            return ExitCode::from(1);
-        }
+        export(&scene, tier, o.width, o.height, dir).map_err(fail)?;
     }
     let bar = ProgressBar::new(u64::from(o.height));
     bar.set_style(
@@ -109,10 +95,14 @@ fn main() -> ExitCode {
     let img = render(&scene, tracer, o.width, o.height, &|n| bar.inc(n));
     let secs = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
-    if let Err(msg) = write_png(&img, out_file, &o.output) {
-        eprintln!("render: {msg}");
-        return ExitCode::from(1);
-    }
+    write_png(&img, out_file, &o.output).map_err(fail)?;
+    let tier = format!("{} with {lanes} lanes ({why})", tier.name());
+    summary(o, &scene, &img, &tier, secs);
+    Ok(())
+}
+
+/// Prints what was rendered, what it cost and the tier it used (`tier`, with why).
+fn summary(o: &Options, scene: &Scene, img: &Image, tier: &str, secs: f64) {
     println!("octoray render: {}", o.output.display());
     println!("  resolution   {}x{}", o.width, o.height);
     let degenerate = scene.degenerate_triangles();
@@ -150,14 +140,8 @@ fn main() -> ExitCode {
         img.rays as f64 / img.trace_secs / 1e6,
         rayon::current_num_threads()
     );
-    println!(
-        "  tier         {} with {} lanes ({})",
-        tier.name(),
-        lanes,
-        why
-    );
+    println!("  tier         {tier}");
     println!("  digest       0x{:016x} (the primary hits)", img.digest);
     println!("  build        {}", flags());
     println!("  wall time    {secs:.3} s");
-    ExitCode::SUCCESS
 }

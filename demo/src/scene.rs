@@ -8,11 +8,10 @@ use octoray::lanes::Lanes;
 use octoray::prim::{PackedSphere, PackedTriangle, Primitive, Ray, Sphere, VertexTriangle};
 use octoray::recommend::{recommend, Recommendation, SceneSpec, TierChoice};
 use octoray::scene::{Trace, Transform};
-use octoray::shading::Shade;
+use octoray::shading::{Shade, Surface};
 use octoray_testkit::camera::Pinhole;
 use rayon::prelude::*;
 use std::path::Path;
-use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Which tier traces the triangles (`auto` asks the recommender).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -543,153 +542,28 @@ where
     let build_secs = start.elapsed().as_secs_f64();
     let world = traced.world.as_ref();
     let start = std::time::Instant::now();
-    let rays = AtomicU64::new(0);
-    // Ambient-occlusion rays reach a tenth of the scene's box diagonal.
-    let ao_reach = {
-        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-        for p in scene.tris.iter().flatten() {
-            (lo, hi) = (lo.min(*p), hi.max(*p));
-        }
-        0.1 * (hi - lo).length()
+    let job = RowJob {
+        scene,
+        traced: &traced,
+        w,
+        h,
+        ao_reach: scene.ao_reach(),
     };
-    // Per row: its pixels, their kinds, and its primary hits as the digest's words.
-    type Row = (Vec<u8>, Vec<PixelKind>, Vec<[u32; 6]>);
     let rows: Vec<Row> = (0..h)
         .into_par_iter()
         .map(|y| {
-            let primary: Vec<Ray> = (0..w).map(|x| scene.camera_ray(x, y, w, h)).collect();
-            // Triangles and spheres in one query: the hit names its geometry and instance.
-            let mut hits = vec![None; primary.len()];
-            world.closest::<L, K, StableSphere>(&primary, !0, &mut hits);
-            // Shading points and shadow rays towards the sun, from conservatively offset origins.
-            let mut shade = vec![];
-            let mut shadow = vec![];
-            let mut ao = vec![];
-            for (ray, hit) in primary.iter().zip(&hits) {
-                let Some(h) = *hit else { continue };
-                let surface = match traced.part(&h) {
-                    Part::Sphere => {
-                        let (c, r) = scene.spheres[h.prim as usize];
-                        Sphere::new(c, r).surface(ray, &h)
-                    }
-                    Part::Ground => {
-                        let t = scene.tris[scene.mesh_tris + h.prim as usize];
-                        VertexTriangle::new(t[0], t[1], t[2]).surface(ray, &h)
-                    }
-                    Part::Mesh { model, field } => {
-                        let t = scene.tris[scene.mesh_groups[model] + h.prim as usize];
-                        // A field instance is shaded from its triangle carried into the world
-                        // (barycentrics and t are the same in both spaces).
-                        let t = match field {
-                            Some(f) => t.map(|v| scene.field[f].transform_point3(v)),
-                            None => t,
-                        };
-                        VertexTriangle::new(t[0], t[1], t[2]).surface(ray, &h)
-                    }
-                };
-                shade.push((surface.point, surface.normal));
-                shadow.push(Ray::new(surface.spawn(scene.light), scene.light));
-                // Ambient occlusion: short rays into the hemisphere, each from its own offset
-                // origin.
-                let seed = y.wrapping_mul(w).wrapping_add(shade.len() as u32);
-                for dir in cosine_directions(surface.normal, seed, scene.ao_samples) {
-                    ao.push(Ray::with_range(surface.spawn(dir), dir, 0.0, ao_reach));
-                }
-            }
-            let mut blocked = vec![false; shadow.len()];
-            world.occluded::<L, K, StableSphere>(&shadow, !0, &mut blocked);
-            // A shading point's share of ambient-occlusion rays that reach open space.
-            let mut ao_open = vec![1.0f32; shade.len()];
-            if scene.ao_samples > 0 {
-                let mut by_any = vec![false; ao.len()];
-                world.occluded::<L, K, StableSphere>(&ao, !0, &mut by_any);
-                let n = scene.ao_samples as usize;
-                for (k, open) in ao_open.iter_mut().enumerate() {
-                    let hit = (k * n..(k + 1) * n).filter(|&i| by_any[i]).count();
-                    *open = 1.0 - hit as f32 / n as f32;
-                }
-            }
-            rays.fetch_add(
-                (primary.len() + shadow.len() + ao.len()) as u64,
-                Ordering::Relaxed,
-            );
-            let (mut rgb, mut kinds) = (
-                Vec::with_capacity(w as usize * 3),
-                Vec::with_capacity(w as usize),
-            );
-            let mut k = 0;
-            for (ray, hit) in primary.iter().zip(&hits) {
-                let (color, kind) = match *hit {
-                    None => (sky(ray.dir), PixelKind::Sky),
-                    Some(h) => {
-                        let (_, n) = shade[k];
-                        let (visible, open) = (!blocked[k], ao_open[k]);
-                        k += 1;
-                        let shadowed = !visible;
-                        let (albedo, kind) = match traced.part(&h) {
-                            Part::Sphere => (
-                                scene.sphere_color[h.prim as usize],
-                                PixelKind::Sphere {
-                                    index: h.prim,
-                                    shadowed,
-                                },
-                            ),
-                            Part::Ground => (
-                                scene.tri_color[scene.mesh_tris + h.prim as usize],
-                                PixelKind::Ground { shadowed },
-                            ),
-                            Part::Mesh { model, field } => {
-                                let c = scene.tri_color[scene.mesh_groups[model] + h.prim as usize];
-                                match field {
-                                    // Each field instance tinted its own way.
-                                    Some(f) => {
-                                        let f = f as u32;
-                                        let tint = Vec3::new(
-                                            1.0 + 0.6 * hash(5 * f),
-                                            1.0 + 0.6 * hash(5 * f + 1),
-                                            1.0 + 0.6 * hash(5 * f + 2),
-                                        );
-                                        (c * tint, PixelKind::Field { shadowed })
-                                    }
-                                    None => (c, PixelKind::Mesh { shadowed }),
-                                }
-                            }
-                        };
-                        let diffuse = if visible {
-                            n.dot(scene.light).max(0.0)
-                        } else {
-                            0.0
-                        };
-                        // Without ambient occlusion a constant ambient term; with it, a larger
-                        // sky term scaled by how open the hemisphere is.
-                        let light = if scene.ao_samples > 0 {
-                            0.4 * open + 0.6 * diffuse
-                        } else {
-                            0.18 + 0.82 * diffuse
-                        };
-                        (albedo * light, kind)
-                    }
-                };
-                rgb.extend(
-                    color
-                        .to_array()
-                        .map(|c| (c.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0 + 0.5) as u8),
-                );
-                kinds.push(kind);
-            }
+            let row = job.row::<L, K>(y);
             progress(1);
-            (rgb, kinds, hits.into_iter().map(Hit::words).collect())
+            row
         })
         .collect();
-    let digest = fnv(rows.iter().flat_map(|r| r.2.iter().flatten().copied()));
-    let (rgb, kinds): (Vec<Vec<u8>>, Vec<Vec<PixelKind>>) =
-        rows.into_iter().map(|(a, b, _)| (a, b)).unzip();
+    let digest = fnv(rows.iter().flat_map(|r| r.words.iter().flatten().copied()));
     Image {
         width: w,
         height: h,
-        rgb: rgb.concat(),
-        kinds: kinds.concat(),
-        rays: rays.into_inner(),
+        rays: rows.iter().map(|r| r.rays).sum(),
+        rgb: rows.iter().flat_map(|r| r.rgb.iter().copied()).collect(),
+        kinds: rows.into_iter().flat_map(|r| r.kinds).collect(),
         build_secs,
         trace_secs: start.elapsed().as_secs_f64(),
         counts: (
@@ -698,6 +572,202 @@ where
             world.instances().len(),
         ),
         digest,
+    }
+}
+
+/// One rendered row: its pixels, their kinds, its primary hits as the digest's words and the
+/// rays it traced.
+struct Row {
+    rgb: Vec<u8>,
+    kinds: Vec<PixelKind>,
+    words: Vec<[u32; 6]>,
+    rays: u64,
+}
+
+/// What every row of a render shares.
+struct RowJob<'a, T> {
+    scene: &'a Scene,
+    traced: &'a Traced<T>,
+    w: u32,
+    h: u32,
+    /// How far ambient-occlusion rays reach.
+    ao_reach: f32,
+}
+
+/// A row's shading points: their normals, and the shadow and ambient-occlusion rays from them
+/// (`ao_samples` per point, point after point).
+struct Shading {
+    normals: Vec<Vec3>,
+    shadow: Vec<Ray>,
+    ao: Vec<Ray>,
+}
+
+impl<T: Primitive + Sync> RowJob<'_, T> {
+    /// Row `y`: primary rays, then shadow and ambient-occlusion rays from their hits, shaded.
+    fn row<L, K>(&self, y: u32) -> Row
+    where
+        L: Lanes,
+        K: Kernel<L, Prim = T>,
+        StableSphere: Kernel<L, Prim = PackedSphere>,
+    {
+        let (scene, world) = (self.scene, self.traced.world.as_ref());
+        let primary: Vec<Ray> = (0..self.w)
+            .map(|x| scene.camera_ray(x, y, self.w, self.h))
+            .collect();
+        // Triangles and spheres in one query: the hit names its geometry and instance.
+        let mut hits = vec![None; primary.len()];
+        world.closest::<L, K, StableSphere>(&primary, !0, &mut hits);
+        let sh = self.shading(y, &primary, &hits);
+        let mut blocked = vec![false; sh.shadow.len()];
+        world.occluded::<L, K, StableSphere>(&sh.shadow, !0, &mut blocked);
+        // A shading point's share of ambient-occlusion rays that reach open space.
+        let mut ao_open = vec![1.0f32; sh.normals.len()];
+        if scene.ao_samples > 0 {
+            let mut by_any = vec![false; sh.ao.len()];
+            world.occluded::<L, K, StableSphere>(&sh.ao, !0, &mut by_any);
+            let n = scene.ao_samples as usize;
+            for (open, rays) in ao_open.iter_mut().zip(by_any.chunks(n)) {
+                let hit = rays.iter().filter(|&&b| b).count();
+                *open = 1.0 - hit as f32 / n as f32;
+            }
+        }
+        let (mut rgb, mut kinds) = (
+            Vec::with_capacity(self.w as usize * 3),
+            Vec::with_capacity(self.w as usize),
+        );
+        let mut k = 0;
+        for (ray, hit) in primary.iter().zip(&hits) {
+            let (color, kind) = match *hit {
+                None => (sky(ray.dir), PixelKind::Sky),
+                Some(h) => {
+                    let lit = self.shade(&h, sh.normals[k], !blocked[k], ao_open[k]);
+                    k += 1;
+                    lit
+                }
+            };
+            rgb.extend(
+                color
+                    .to_array()
+                    .map(|c| (c.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0 + 0.5) as u8),
+            );
+            kinds.push(kind);
+        }
+        Row {
+            rgb,
+            kinds,
+            words: hits.into_iter().map(Hit::words).collect(),
+            rays: (primary.len() + sh.shadow.len() + sh.ao.len()) as u64,
+        }
+    }
+
+    /// The shading points of row `y`'s hits, with shadow rays towards the sun and
+    /// ambient-occlusion rays into the hemisphere, each from its own conservatively offset
+    /// origin.
+    fn shading(&self, y: u32, primary: &[Ray], hits: &[Option<Hit>]) -> Shading {
+        let scene = self.scene;
+        let mut sh = Shading {
+            normals: vec![],
+            shadow: vec![],
+            ao: vec![],
+        };
+        for (ray, hit) in primary.iter().zip(hits) {
+            let Some(h) = *hit else { continue };
+            let surface = self.surface(ray, &h);
+            sh.normals.push(surface.normal);
+            sh.shadow
+                .push(Ray::new(surface.spawn(scene.light), scene.light));
+            let seed = y.wrapping_mul(self.w).wrapping_add(sh.normals.len() as u32);
+            for dir in cosine_directions(surface.normal, seed, scene.ao_samples) {
+                sh.ao
+                    .push(Ray::with_range(surface.spawn(dir), dir, 0.0, self.ao_reach));
+            }
+        }
+        sh
+    }
+
+    /// The surface `ray` meets at hit `h`.
+    fn surface(&self, ray: &Ray, h: &Hit) -> Surface {
+        let scene = self.scene;
+        match self.traced.part(h) {
+            Part::Sphere => {
+                let (c, r) = scene.spheres[h.prim as usize];
+                Sphere::new(c, r).surface(ray, h)
+            }
+            Part::Ground => {
+                let t = scene.tris[scene.mesh_tris + h.prim as usize];
+                VertexTriangle::new(t[0], t[1], t[2]).surface(ray, h)
+            }
+            Part::Mesh { model, field } => {
+                let t = scene.tris[scene.mesh_groups[model] + h.prim as usize];
+                // A field instance is shaded from its triangle carried into the world
+                // (barycentrics and t are the same in both spaces).
+                let t = match field {
+                    Some(f) => t.map(|v| scene.field[f].transform_point3(v)),
+                    None => t,
+                };
+                VertexTriangle::new(t[0], t[1], t[2]).surface(ray, h)
+            }
+        }
+    }
+
+    /// The colour and kind of a hit's pixel with normal `n`, lit by the sun when `visible` and
+    /// by the sky as far as the hemisphere is `open`.
+    fn shade(&self, h: &Hit, n: Vec3, visible: bool, open: f32) -> (Vec3, PixelKind) {
+        let scene = self.scene;
+        let shadowed = !visible;
+        let (albedo, kind) = match self.traced.part(h) {
+            Part::Sphere => (
+                scene.sphere_color[h.prim as usize],
+                PixelKind::Sphere {
+                    index: h.prim,
+                    shadowed,
+                },
+            ),
+            Part::Ground => (
+                scene.tri_color[scene.mesh_tris + h.prim as usize],
+                PixelKind::Ground { shadowed },
+            ),
+            Part::Mesh { model, field } => {
+                let c = scene.tri_color[scene.mesh_groups[model] + h.prim as usize];
+                match field {
+                    // Each field instance tinted its own way.
+                    Some(f) => {
+                        let f = f as u32;
+                        let tint = Vec3::new(
+                            1.0 + 0.6 * hash(5 * f),
+                            1.0 + 0.6 * hash(5 * f + 1),
+                            1.0 + 0.6 * hash(5 * f + 2),
+                        );
+                        (c * tint, PixelKind::Field { shadowed })
+                    }
+                    None => (c, PixelKind::Mesh { shadowed }),
+                }
+            }
+        };
+        let diffuse = if visible {
+            n.dot(scene.light).max(0.0)
+        } else {
+            0.0
+        };
+        // Without ambient occlusion a constant ambient term; with it, a larger sky term scaled
+        // by how open the hemisphere is.
+        let light = if scene.ao_samples > 0 {
+            0.4 * open + 0.6 * diffuse
+        } else {
+            0.18 + 0.82 * diffuse
+        };
+        (albedo * light, kind)
+    }
+}
+
+impl Scene {
+    /// How far ambient-occlusion rays reach: a tenth of the scene's box diagonal.
+    fn ao_reach(&self) -> f32 {
+        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for p in self.tris.iter().flatten() {
+            (lo, hi) = (lo.min(*p), hi.max(*p));
+        }
+        0.1 * (hi - lo).length()
     }
 }
 
