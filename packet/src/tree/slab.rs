@@ -32,6 +32,7 @@
 use octoray_core::bvh::SLACK;
 use octoray_core::lanes::{LaneMask, Lanes, Scalar, MAX_LANES, V3};
 use octoray_core::prim::RayLanes;
+use wide::f32x8;
 
 /// The reciprocals' relative widening, `w = 2⁻²⁰`: more than the four roundings of a slab
 /// distance (module doc).
@@ -197,15 +198,15 @@ pub fn slab_planes<L: Lanes>(entry: V3<L>, exit: V3<L>, r: &BoxRay<L>, t_max: L)
 /// is skipped by the reductions, and a NaN comparison keeps the child).
 #[derive(Clone, Copy, Debug)]
 pub struct Frustum {
-    /// Per axis: the node row of the entry face and of the exit face (rows 0–2 lower, 3–5 upper).
-    faces: [(usize, usize); 3],
-    /// Per axis: the origin (with its slack) that gives the smallest entry distance, and the
-    /// one that gives the largest exit distance.
-    o_near: [f32; 3],
-    o_far: [f32; 3],
-    /// Per axis: the smallest and largest entry and exit reciprocals of the lanes; `None` where
-    /// some lane's is not finite.
-    inv: [Option<[(f32, f32); 2]>; 3],
+    /// Per axis: whether the lanes' directions are negative (the entry face is then the upper
+    /// one, rows 3–5, and the exit face the lower one, rows 0–2).
+    neg: [bool; 3],
+    /// Per axis: whether it bounds the frustum (every valid lane's reciprocals are finite).
+    bounded: [bool; 3],
+    /// Per axis: the origin (with its slack) that gives the smallest entry distance, the one
+    /// that gives the largest exit distance, then the smallest and largest entry reciprocals and
+    /// the smallest and largest exit reciprocals.
+    axis: [[f32; 6]; 3],
     /// The smallest `t_min` (−inf where some lane's is NaN).
     t_min: f32,
     /// The largest pad.
@@ -230,10 +231,9 @@ impl Frustum {
         let most = |x: L| extreme_lane(x, r.valid, true);
         let t_min = L::select(!r.t_min.ge(r.t_min), L::splat(f32::NEG_INFINITY), r.t_min);
         let mut f = Self {
-            faces: [(0, 3); 3],
-            o_near: [0.0; 3],
-            o_far: [0.0; 3],
-            inv: [None; 3],
+            neg: [false; 3],
+            bounded: [false; 3],
+            axis: [[0.0; 6]; 3],
             t_min: least(t_min),
             pad: most(r.pad),
         };
@@ -246,20 +246,28 @@ impl Frustum {
                 return None;
             }
             let neg = neg != 0;
-            f.faces[k] = if neg { (3 + k, k) } else { (k, 3 + k) };
+            f.neg[k] = neg;
             let finite = |x: L| L::select(r.valid, x, L::zero()).is_finite().all();
-            if finite(inv_near[k]) && finite(inv_far[k]) {
-                let span = |x: L| (least(x), most(x));
-                f.inv[k] = Some([span(inv_near[k]), span(inv_far[k])]);
+            f.bounded[k] = finite(inv_near[k]) && finite(inv_far[k]);
+            if !f.bounded[k] {
+                continue;
             }
             // (b − o)·(1/d) decreases with o when 1/d > 0: the smallest entry distance comes from
             // the largest entry origin, the largest exit distance from the smallest exit origin;
             // the other way round when 1/d < 0.
-            (f.o_near[k], f.o_far[k]) = if neg {
+            let (o_near, o_far) = if neg {
                 (least(o_entry[k]), most(o_exit[k]))
             } else {
                 (most(o_entry[k]), least(o_exit[k]))
             };
+            f.axis[k] = [
+                o_near,
+                o_far,
+                least(inv_near[k]),
+                most(inv_near[k]),
+                least(inv_far[k]),
+                most(inv_far[k]),
+            ];
         }
         Some(f)
     }
@@ -269,22 +277,32 @@ impl Frustum {
     /// bound).
     #[inline(always)]
     pub fn children(&self, rows: &[[f32; 8]; 9], t_max: f32) -> u32 {
-        use wide::f32x8;
         let (mut near, mut far) = (f32x8::splat(self.t_min), f32x8::splat(t_max));
-        for k in 0..3 {
-            let Some([(n_lo, n_hi), (f_lo, f_hi)]) = self.inv[k] else {
-                continue;
-            };
-            let a = f32x8::from(rows[self.faces[k].0]) - f32x8::splat(self.o_near[k]);
-            let b = f32x8::from(rows[self.faces[k].1]) - f32x8::splat(self.o_far[k]);
-            // Products are monotone in each factor: the extremes are at the reciprocal's ends.
-            let (n_lo, n_hi) = (f32x8::splat(n_lo), f32x8::splat(n_hi));
-            let (f_lo, f_hi) = (f32x8::splat(f_lo), f32x8::splat(f_hi));
-            near = (a * n_lo).min_or_rhs(a * n_hi).max_or_rhs(near);
-            far = (b * f_lo).max_or_rhs(b * f_hi).min_or_rhs(far);
+        self.axis_range(0, rows, &mut near, &mut far);
+        self.axis_range(1, rows, &mut near, &mut far);
+        self.axis_range(2, rows, &mut near, &mut far);
+        (!(near - f32x8::splat(self.pad)).gt(far)).bitmask()
+    }
+
+    /// Narrows the children's `[near, far]` by axis `k`'s slabs (when the axis bounds the
+    /// frustum).
+    #[inline(always)]
+    fn axis_range(&self, k: usize, rows: &[[f32; 8]; 9], near: &mut f32x8, far: &mut f32x8) {
+        if !self.bounded[k] {
+            return;
         }
-        let near = near - f32x8::splat(self.pad);
-        (!near.gt(far)).bitmask()
+        let [o_near, o_far, n_lo, n_hi, f_lo, f_hi] = self.axis[k];
+        let s = f32x8::splat;
+        let (entry, exit) = if self.neg[k] {
+            (rows[3 + k], rows[k])
+        } else {
+            (rows[k], rows[3 + k])
+        };
+        let a = f32x8::from(entry) - s(o_near);
+        let b = f32x8::from(exit) - s(o_far);
+        // Products are monotone in each factor: the extremes are at the reciprocal's ends.
+        *near = (a * s(n_lo)).min_or_rhs(a * s(n_hi)).max_or_rhs(*near);
+        *far = (b * s(f_lo)).max_or_rhs(b * s(f_hi)).min_or_rhs(*far);
     }
 }
 
