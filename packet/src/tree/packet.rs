@@ -1,6 +1,7 @@
-//! The walk of one packet: the active mask goes down the tree together, children near-first by
-//! the packet's entry distance, a coherent packet's frustum first; few lanes left continue ray by
-//! ray ([`super::single`]).
+//! The walk of one packet: the active mask goes down the tree together, a coherent packet's
+//! frustum first and its children in the node's order for the packet's direction octant (an
+//! incoherent packet's sorted by the entry distance of their first entering lane); few lanes
+//! left continue ray by ray ([`super::single`]).
 
 use super::epilog::PacketBest;
 use super::leaf::{Leaf, Members, Prims};
@@ -13,7 +14,7 @@ use octoray_core::kernels::Kernel;
 use octoray_core::lanes::{LaneMask, Lanes, Scalar, V3};
 use octoray_core::prim::RayLanes;
 use octoray_core::query::ClosestHit;
-use wide::f32x8;
+use wide::{f32x8, u32x8};
 
 /// A stack entry: a child slot's reference (`count == 0`: inner node) and where the ray enters.
 #[derive(Clone, Copy)]
@@ -75,6 +76,7 @@ pub(crate) fn packet_walk<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
     // Coherent f32 packets test a node's eight boxes against the packet's frustum first, and
     // the packet lane by lane only against the children that pass.
     let frustum = Frustum::new(br);
+    let octant = frustum.as_ref().map(Frustum::octant);
     let nan = L::splat(f32::NAN);
     let mut stack = ArrayVec::<Entry<L>, STACK>::new();
     stack.push(Entry {
@@ -140,12 +142,6 @@ pub(crate) fn packet_walk<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
             continue;
         }
         let node = &nodes[e.child as usize];
-        // Children entered by some live lane: their entry distances, and slot indices sorted
-        // farthest first by key (then pushed, so the nearest is popped first).
-        let mut nears = [nan; WIDTH];
-        let mut keys = [0.0f32; WIDTH];
-        let mut order = [0u8; WIDTH];
-        let mut n = 0;
         let passed = match &frustum {
             Some(f) => {
                 if best.moved {
@@ -156,45 +152,86 @@ pub(crate) fn packet_walk<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
             }
             None => u32::MAX,
         };
-        // The used children the frustum keeps, one at a time.
-        let mut todo = passed & !empty_slots(bytemuck::cast_ref(node)) & ((1 << WIDTH) - 1);
-        while todo != 0 {
-            let s = todo.trailing_zeros() as usize;
-            todo &= todo - 1;
+        // The used children the frustum keeps.
+        let todo = passed & !empty_slots(bytemuck::cast_ref(node)) & ((1 << WIDTH) - 1);
+        // Child `s`'s entry distances where a live lane enters it (NaN elsewhere), if one does.
+        let enter = |s: usize| {
             let lo = V3::splat([node.lo[0][s], node.lo[1][s], node.lo[2][s]]);
             let hi = V3::splat([node.hi[0][s], node.hi[1][s], node.hi[2][s]]);
             let (m, near) = slab(lo, hi, br, best.cull);
             let m = m & live;
-            let mb = m.bitmask();
-            if mb == 0 {
-                continue;
+            m.any().then(|| (m, L::select(m, near, nan)))
+        };
+        match octant {
+            // A coherent packet: the node's order for its octant. Bit `j` set where the
+            // octant's `j`-th slot is to be tested; the last pushed first, so that the nearest
+            // is popped first.
+            Some(o) if !ANY => {
+                let order = u32x8::new(node.order).unbounded_shr_scalar(3 * o) & u32x8::splat(7);
+                let mut bits = (u32x8::splat(todo).unbounded_shr(order) << 31u32).to_bitmask();
+                while bits != 0 {
+                    let j = 31 - bits.leading_zeros() as usize;
+                    bits &= !(1 << j);
+                    let s = (node.order[j & (WIDTH - 1)] >> (3 * o) & 7) as usize;
+                    if let Some((_, near)) = enter(s) {
+                        stack.push(Entry {
+                            child: node.child[s],
+                            count: node.count[s],
+                            near,
+                        });
+                    }
+                }
             }
-            // Sort key: the entry distance of the first lane that enters (a representative ray
-            // of a coherent packet; the order affects speed only, never the answer).
-            nears[s] = L::select(m, near, nan);
-            let key = if ANY {
-                0.0
-            } else {
-                nears[s].lane(mb.trailing_zeros() as usize).to_f32()
-            };
-            keys[s] = key;
-            let mut j = n;
-            // Occlusion needs no order: children go onto the stack as they come.
-            while !ANY && j > 0 && keys[order[j - 1] as usize] < key {
-                order[j] = order[j - 1];
-                j -= 1;
-            }
-            order[j] = s as u8;
-            n += 1;
+            _ => push_sorted::<L, ANY>(node, todo, enter, &mut stack),
         }
-        for &s in &order[..n] {
-            let s = s as usize;
-            stack.push(Entry {
-                child: node.child[s],
-                count: node.count[s],
-                near: nears[s],
-            });
+    }
+}
+
+/// Pushes the children `todo` of `node` that `enter` finds some live lane entering (with its
+/// entry distances) for a packet without a frustum: sorted by the entry distance of the first
+/// entering lane (a representative ray), the nearest last so that it is popped first.
+/// Occlusion needs no order: children go on as they come. The order affects speed only, never
+/// the answer.
+#[inline(always)]
+fn push_sorted<L: Lanes, const ANY: bool>(
+    node: &Bvh8Node,
+    todo: u32,
+    enter: impl Fn(usize) -> Option<(L::Mask, L)>,
+    stack: &mut ArrayVec<Entry<L>, STACK>,
+) {
+    let mut nears = [L::splat(f32::NAN); WIDTH];
+    let mut keys = [0.0f32; WIDTH];
+    let mut order = [0u8; WIDTH];
+    let mut n = 0;
+    let mut todo = todo;
+    while todo != 0 {
+        let s = todo.trailing_zeros() as usize;
+        todo &= todo - 1;
+        let Some((m, near)) = enter(s) else {
+            continue;
+        };
+        nears[s] = near;
+        let key = if ANY {
+            0.0
+        } else {
+            near.lane(m.bitmask().trailing_zeros() as usize).to_f32()
+        };
+        keys[s] = key;
+        let mut j = n;
+        while !ANY && j > 0 && keys[order[j - 1] as usize] < key {
+            order[j] = order[j - 1];
+            j -= 1;
         }
+        order[j] = s as u8;
+        n += 1;
+    }
+    for &s in &order[..n] {
+        let s = s as usize;
+        stack.push(Entry {
+            child: node.child[s],
+            count: node.count[s],
+            near: nears[s],
+        });
     }
 }
 

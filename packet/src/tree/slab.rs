@@ -272,6 +272,12 @@ impl Frustum {
         Some(f)
     }
 
+    /// The lanes' direction octant: bit `k` set where axis `k` is negative (the index of
+    /// [`octoray_core::bvh::Bvh8Node::order`]'s octants).
+    pub fn octant(&self) -> u32 {
+        self.neg[0] as u32 | (self.neg[1] as u32) << 1 | (self.neg[2] as u32) << 2
+    }
+
     /// Bit `s` set unless child `s` of the node (its rows: lower x, y, z, upper x, y, z) is missed
     /// by every valid lane within `[t_min, t_max]`; `t_max` at least every live lane's (NaN: no
     /// bound).
