@@ -41,6 +41,7 @@
 
 #[cfg(feature = "alloc")]
 mod build;
+#[cfg(feature = "alloc")]
 mod collapse;
 
 use crate::prim::{Primitive, BLOCK};
