@@ -264,3 +264,49 @@ fn named_edge_cases_equal_scalar_twin() {
     assert_eq!(h[6], None);
     assert_eq!(h[7].map(|h| h.t), Some(0.0));
 }
+
+/// `RayLanes::<L>::load` of `rays` (its first `LANES` at most): lane `i` holds ray `i`'s eight
+/// values exactly (widened for f64 lanes) and is active; the lanes past the slice are zero and
+/// inactive.
+fn loaded_lane_by_lane<L: Lanes>(rays: &[Ray]) -> Result<(), TestCaseError> {
+    let p = RayLanes::<L>::load(rays);
+    let n = rays.len().min(L::LANES);
+    prop_assert_eq!(p.active.bitmask(), ((1u64 << n) - 1) as u32);
+    for i in 0..L::LANES {
+        let got = [
+            p.origin.x, p.origin.y, p.origin.z, p.dir.x, p.dir.y, p.dir.z, p.t_min, p.t_max,
+        ]
+        .map(|x| x.lane(i).to_f64().to_bits());
+        let want = rays.get(i).filter(|_| i < n).map_or([0.0; 8], |r| {
+            let (o, d) = (r.origin, r.dir);
+            [o.x, o.y, o.z, d.x, d.y, d.z, r.t_min, r.t_max]
+        });
+        prop_assert_eq!(got, want.map(|x| f64::from(x).to_bits()), "lane {}", i);
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(octoray_testkit::cases::proptest_config(400))]
+
+    /// Packets of every length from 0 to past the width, at every width and lane type, from
+    /// rays of any bits (NaN, ±inf, ±0, subnormals included).
+    #[test]
+    fn packets_load_each_ray_into_its_lane(
+        words in prop::collection::vec(any::<[u32; 8]>(), 0..20),
+    ) {
+        let rays: Vec<Ray> = words
+            .iter()
+            .map(|w| {
+                let f = w.map(f32::from_bits);
+                let v = |k: usize| Vec3::new(f[k], f[k + 1], f[k + 2]);
+                Ray::with_range(v(0), v(3), f[6], f[7])
+            })
+            .collect();
+        loaded_lane_by_lane::<f32x4>(&rays)?;
+        loaded_lane_by_lane::<f32x8>(&rays)?;
+        loaded_lane_by_lane::<f32x16>(&rays)?;
+        loaded_lane_by_lane::<f64x4>(&rays)?;
+        loaded_lane_by_lane::<f64x8>(&rays)?;
+    }
+}

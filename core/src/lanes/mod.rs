@@ -234,6 +234,21 @@ pub trait Lanes:
     /// is negative or −0, `self` elsewhere).
     fn xor_sign(self, s: Self) -> Self;
 
+    /// Eight values per lane, lane `i` from `row(i)` for `i < n` and zero beyond: the transpose
+    /// of `n` rows of eight `f32` (a packet's rays) into eight lane vectors, with register
+    /// shuffles where the type has them (`f32x4`, `f32x8`, `f32x16` on x86).
+    #[inline(always)]
+    fn columns8(n: usize, row: impl Fn(usize) -> [f32; 8]) -> [Self; 8] {
+        let rows: [[f32; 8]; MAX_LANES] = core::array::from_fn(|i| {
+            if i < n.min(Self::LANES) {
+                row(i)
+            } else {
+                [0.0; 8]
+            }
+        });
+        core::array::from_fn(|k| Self::from_fn(|i| Self::Scalar::from_f32(rows[i][k])))
+    }
+
     /// `a·b − c·d` per lane with an exact sign ([`Scalar::diff_of_products_wide`]), lane by lane:
     /// slow, for rare fallbacks only.
     #[inline]

@@ -11,7 +11,7 @@ use ::wide::{f32x16, f32x4, f32x8, f64x4, f64x8, u32x16, u32x4, u32x8, u64x4, u6
 /// itself (all-ones or all-zeros per lane), the index type the unsigned vector of the same width
 /// (`u64` lanes for `f64` types; indices are stored zero-extended).
 macro_rules! impl_wide_lanes {
-    ($f:ident, $t:ident, $u:ident, $ut:ident, $n:literal) => {
+    ($f:ident, $t:ident, $u:ident, $ut:ident, $n:literal $(, $columns:ident)?) => {
         impl LaneMask for $f {
             #[inline(always)]
             fn any(self) -> bool {
@@ -110,6 +110,12 @@ macro_rules! impl_wide_lanes {
             fn max_or_rhs(self, rhs: Self) -> Self {
                 self.fast_max(rhs)
             }
+            $(
+            #[inline(always)]
+            fn columns8(n: usize, row: impl Fn(usize) -> [f32; 8]) -> [Self; 8] {
+                $columns(n, row)
+            }
+            )?
             #[inline(always)]
             fn splat_index(i: u32) -> $u {
                 $u::splat(i as $ut)
@@ -127,8 +133,49 @@ macro_rules! impl_wide_lanes {
     };
 }
 
-impl_wide_lanes!(f32x4, f32, u32x4, u32, 4);
-impl_wide_lanes!(f32x8, f32, u32x8, u32, 8);
-impl_wide_lanes!(f32x16, f32, u32x16, u32, 16);
+impl_wide_lanes!(f32x4, f32, u32x4, u32, 4, columns_x4);
+impl_wide_lanes!(f32x8, f32, u32x8, u32, 8, columns_x8);
+impl_wide_lanes!(f32x16, f32, u32x16, u32, 16, columns_x16);
 impl_wide_lanes!(f64x4, f64, u64x4, u64, 4);
 impl_wide_lanes!(f64x8, f64, u64x8, u64, 8);
+
+/// Rows `base..base + 8` of [`Lanes::columns8`]'s input (zero from `n` on), transposed: one
+/// 8 × 8 shuffle network on AVX.
+#[inline(always)]
+fn transpose8(base: usize, n: usize, row: &impl Fn(usize) -> [f32; 8]) -> [f32x8; 8] {
+    f32x8::transpose(core::array::from_fn(|i| {
+        let i = base + i;
+        f32x8::new(if i < n { row(i) } else { [0.0; 8] })
+    }))
+}
+
+/// [`Lanes::columns8`] for `f32x8`.
+#[inline(always)]
+fn columns_x8(n: usize, row: impl Fn(usize) -> [f32; 8]) -> [f32x8; 8] {
+    transpose8(0, n, &row)
+}
+
+/// [`Lanes::columns8`] for `f32x16`: rows 0–7 and 8–15 transposed apart, then joined.
+#[inline(always)]
+fn columns_x16(n: usize, row: impl Fn(usize) -> [f32; 8]) -> [f32x16; 8] {
+    let (lo, hi) = (transpose8(0, n, &row), transpose8(8, n, &row));
+    core::array::from_fn(|k| {
+        let (a, b) = (lo[k].to_array(), hi[k].to_array());
+        f32x16::new(core::array::from_fn(
+            |i| if i < 8 { a[i] } else { b[i - 8] },
+        ))
+    })
+}
+
+/// [`Lanes::columns8`] for `f32x4`: each row's halves as two 4 × 4 transposes.
+#[inline(always)]
+fn columns_x4(n: usize, row: impl Fn(usize) -> [f32; 8]) -> [f32x4; 8] {
+    let rows: [[f32; 8]; 4] = core::array::from_fn(|i| if i < n { row(i) } else { [0.0; 8] });
+    let half = |h: usize| {
+        f32x4::transpose(core::array::from_fn(|i| {
+            f32x4::new(core::array::from_fn(|k| rows[i][4 * h + k]))
+        }))
+    };
+    let (lo, hi) = (half(0), half(1));
+    core::array::from_fn(|k| if k < 4 { lo[k] } else { hi[k - 4] })
+}

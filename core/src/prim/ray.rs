@@ -8,6 +8,7 @@ use glam::Vec3;
 /// The direction need not be unit length: `t` is measured in units of `dir`, as on the
 /// textbook sheet. A zero, NaN or infinite direction (or origin) is accepted and never hits.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
 pub struct Ray {
     /// Origin `o`.
     pub origin: Vec3,
@@ -67,22 +68,16 @@ impl<L: Lanes> RayLanes<L> {
     /// hold a zero ray). An empty slice gives a packet with no active lane.
     pub fn load(rays: &[Ray]) -> Self {
         let n = rays.len().min(L::LANES);
-        let get = |i: usize, f: fn(&Ray) -> f32| {
-            L::Scalar::from_f32(if i < n { f(&rays[i]) } else { 0.0 })
-        };
+        let [ox, oy, oz, dx, dy, dz, t_min, t_max] = L::columns8(n, |i| {
+            let r = &rays[i];
+            let (o, d) = (r.origin, r.dir);
+            [o.x, o.y, o.z, d.x, d.y, d.z, r.t_min, r.t_max]
+        });
         Self {
-            origin: V3::new(
-                L::from_fn(|i| get(i, |r| r.origin.x)),
-                L::from_fn(|i| get(i, |r| r.origin.y)),
-                L::from_fn(|i| get(i, |r| r.origin.z)),
-            ),
-            dir: V3::new(
-                L::from_fn(|i| get(i, |r| r.dir.x)),
-                L::from_fn(|i| get(i, |r| r.dir.y)),
-                L::from_fn(|i| get(i, |r| r.dir.z)),
-            ),
-            t_min: L::from_fn(|i| get(i, |r| r.t_min)),
-            t_max: L::from_fn(|i| get(i, |r| r.t_max)),
+            origin: V3::new(ox, oy, oz),
+            dir: V3::new(dx, dy, dz),
+            t_min,
+            t_max,
             active: L::first_lanes(n),
         }
     }
