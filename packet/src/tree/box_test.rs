@@ -6,16 +6,48 @@ extern crate std;
 use octoray_testkit as testkit;
 use std::vec::Vec;
 
-use super::slab::{slab, BoxRay, Frustum};
+use super::slab::{extreme_lane, extremes8, slab, BoxRay, Frustum};
 use octoray_core::glam::Vec3;
-use octoray_core::lanes::{LaneMask, V3};
+use octoray_core::lanes::{LaneMask, Lanes, V3};
 use octoray_core::prim::{Ray, RayLanes};
 use proptest::prelude::*;
 use testkit::Rng;
-use wide::f32x8;
+use wide::{f32x16, f32x4, f32x8};
+
+/// Eight vectors of `L` with values of every scale and sign, ±0 and ±inf, and a non-empty mask:
+/// [`extremes8`]'s smallest and largest set lane of each equal [`extreme_lane`]'s.
+fn extremes_agree<L: Lanes<Scalar = f32>>(rng: &mut Rng) -> Result<(), TestCaseError> {
+    let value = |rng: &mut Rng| match rng.below(8) {
+        0 => 0.0,
+        1 => -0.0,
+        2 => f32::INFINITY,
+        3 => f32::NEG_INFINITY,
+        _ => rng.range(-1.0, 1.0) * 10f32.powf(rng.range(-30.0, 30.0)),
+    };
+    let x: [L; 8] = core::array::from_fn(|_| L::from_fn(|_| value(rng)));
+    let all = ((1u64 << L::LANES) - 1) as u32;
+    let bits = (rng.next_u64() as u32 | 1 << rng.below(L::LANES as u64)) & all;
+    let m = L::mask_from_bits(bits);
+    let (least, most) = extremes8(x, m);
+    for j in 0..8 {
+        prop_assert_eq!(least[j], extreme_lane(x[j], m, false), "least of {}", j);
+        prop_assert_eq!(most[j], extreme_lane(x[j], m, true), "most of {}", j);
+    }
+    Ok(())
+}
 
 proptest! {
     #![proptest_config(octoray_testkit::cases::proptest_config(4096))]
+    /// The frustum's batched reductions give every vector's extremes over the set lanes, at
+    /// widths 4, 8 and 16 (the padding of narrow packets and the unset lanes change nothing).
+    #[test]
+    fn batched_extremes_equal_one_reduction_per_vector(seed in any::<u64>()) {
+        let mut rng = Rng(seed);
+        extremes_agree::<f32x4>(&mut rng)?;
+        extremes_agree::<f32x8>(&mut rng)?;
+        extremes_agree::<f32x16>(&mut rng)?;
+    }
+
     /// The packet frustum never drops a child some valid lane's slab test keeps: random nodes
     /// (boxes at any scale, empty slots, flat boxes) against coherent packets (shared signs,
     /// zero components, NaN ranges and directions in some lanes), every t_max.

@@ -224,49 +224,75 @@ impl Frustum {
         if valid == 0 {
             return None;
         }
-        // Horizontal reductions over the valid lanes. No reduced lane is NaN: t_min's NaN
-        // lanes become −inf below, reciprocals are reduced only where all are finite, and valid
-        // origins are finite.
-        let least = |x: L| extreme_lane(x, r.valid, false);
-        let most = |x: L| extreme_lane(x, r.valid, true);
-        let t_min = L::select(!r.t_min.ge(r.t_min), L::splat(f32::NEG_INFINITY), r.t_min);
-        let mut f = Self {
-            neg: [false; 3],
-            bounded: [false; 3],
-            axis: [[0.0; 6]; 3],
-            t_min: least(t_min),
-            pad: most(r.pad),
-        };
         let axes = |v: V3<L>| [v.x, v.y, v.z];
         let (inv_near, inv_far) = (axes(r.inv_near), axes(r.inv_far));
         let (o_entry, o_exit) = (axes(r.o_entry), axes(r.o_exit));
+        let neg = r.neg.map(|m| m.bitmask() & valid);
+        if neg.iter().any(|&n| n != 0 && n != valid) {
+            return None;
+        }
+        let neg = neg.map(|n| n != 0);
+        // (b − o)·(1/d) decreases with o when 1/d > 0: the smallest entry distance comes from
+        // the largest entry origin, the largest exit distance from the smallest exit origin;
+        // the other way round when 1/d < 0. So per axis one origin's smallest lane is needed
+        // and the other's largest.
+        let o_least = |k: usize| if neg[k] { o_entry[k] } else { o_exit[k] };
+        let o_most = |k: usize| if neg[k] { o_exit[k] } else { o_entry[k] };
+        // Horizontal reductions over the valid lanes, sixteen at once. No lane used is NaN:
+        // t_min's NaN lanes become −inf, reciprocals are used only where all are finite, and
+        // valid origins are finite.
+        let t_min = L::select(!r.t_min.ge(r.t_min), L::splat(f32::NEG_INFINITY), r.t_min);
+        let (least, most) = extremes8(
+            [
+                t_min,
+                r.pad,
+                o_least(0),
+                o_least(1),
+                o_least(2),
+                o_most(0),
+                o_most(1),
+                o_most(2),
+            ],
+            r.valid,
+        );
+        let (inv_least, inv_most) = extremes8(
+            [
+                inv_near[0],
+                inv_near[1],
+                inv_near[2],
+                inv_far[0],
+                inv_far[1],
+                inv_far[2],
+                t_min,
+                t_min,
+            ],
+            r.valid,
+        );
+        let mut f = Self {
+            neg,
+            bounded: [false; 3],
+            axis: [[0.0; 6]; 3],
+            t_min: least[0],
+            pad: most[1],
+        };
+        let finite = |x: L| L::select(r.valid, x, L::zero()).is_finite().all();
         for k in 0..3 {
-            let neg = r.neg[k].bitmask() & valid;
-            if neg != 0 && neg != valid {
-                return None;
-            }
-            let neg = neg != 0;
-            f.neg[k] = neg;
-            let finite = |x: L| L::select(r.valid, x, L::zero()).is_finite().all();
             f.bounded[k] = finite(inv_near[k]) && finite(inv_far[k]);
             if !f.bounded[k] {
                 continue;
             }
-            // (b − o)·(1/d) decreases with o when 1/d > 0: the smallest entry distance comes from
-            // the largest entry origin, the largest exit distance from the smallest exit origin;
-            // the other way round when 1/d < 0.
-            let (o_near, o_far) = if neg {
-                (least(o_entry[k]), most(o_exit[k]))
+            let (o_near, o_far) = if neg[k] {
+                (least[2 + k], most[5 + k])
             } else {
-                (most(o_entry[k]), least(o_exit[k]))
+                (most[5 + k], least[2 + k])
             };
             f.axis[k] = [
                 o_near,
                 o_far,
-                least(inv_near[k]),
-                most(inv_near[k]),
-                least(inv_far[k]),
-                most(inv_far[k]),
+                inv_least[k],
+                inv_most[k],
+                inv_least[3 + k],
+                inv_most[3 + k],
             ];
         }
         Some(f)
@@ -310,6 +336,45 @@ impl Frustum {
         *near = (a * s(n_lo)).min_or_rhs(a * s(n_hi)).max_or_rhs(*near);
         *far = (b * s(f_lo)).max_or_rhs(b * s(f_hi)).min_or_rhs(*far);
     }
+}
+
+/// The smallest and the largest of the lanes set in `m` (not empty) of each of eight vectors
+/// (`x[j]`'s in lane `j` of each result), as f32; lanes must not be NaN (a NaN lane gives its
+/// vector's results no meaning, the others' stay exact).
+///
+/// A transpose brings lane `i` of every vector into one `f32x8`, and a tree of elementwise
+/// `min`/`max` reduces those: sixteen reductions for the shuffles of one. Unset lanes, and the
+/// padding of packets narrower than 8, repeat the first set lane, which changes no extreme.
+#[inline(always)]
+pub(super) fn extremes8<L: Lanes>(x: [L; 8], m: L::Mask) -> ([f32; 8], [f32; 8]) {
+    let x = if m.all() {
+        x
+    } else {
+        let first = m.bitmask().trailing_zeros() as usize % L::LANES;
+        x.map(|q| L::select(m, q, L::splat_scalar(q.lane(first))))
+    };
+    // Lanes `8h..8h + 8` of the vectors, transposed: vector `i` holds lane `8h + i` of each.
+    let half = |h: usize| {
+        f32x8::transpose(x.map(|q| {
+            f32x8::new(core::array::from_fn(|i| {
+                q.lane((8 * h + i) % L::LANES.min(8 * h + 8)).to_f32()
+            }))
+        }))
+    };
+    let (mut lo, mut hi) = (half(0), half(0));
+    if L::LANES > 8 {
+        let b = half(1);
+        for i in 0..8 {
+            (lo[i], hi[i]) = (lo[i].fast_min(b[i]), hi[i].fast_max(b[i]));
+        }
+    }
+    for n in [4, 2, 1] {
+        for i in 0..n {
+            lo[i] = lo[i].fast_min(lo[i + n]);
+            hi[i] = hi[i].fast_max(hi[i + n]);
+        }
+    }
+    (lo[0].to_array(), hi[0].to_array())
 }
 
 /// The smallest (`max = false`) or largest lane of `x` among the lanes set in `m`, as f32 (+inf
