@@ -201,13 +201,18 @@ impl<L: Lanes, K: Kernel<L>, const MANY: bool> Leaf<L> for Prims<'_, L, K, MANY>
         let bvh = self.bvh;
         let mut ray = *rays;
         ray.active = live;
+        // The block's rows found once per block, not per slot (`start`: the block's first slot).
+        let (mut block, mut start) = (bvh.block_of(first), first - first % BLOCK);
         for k in first..first + count {
+            if k - start >= BLOCK {
+                (block, start) = (bvh.block_of(k), k);
+            }
             ray.t_max = if K::EXACT_T_MAX {
                 rays.t_max
             } else {
                 best.cull
             };
-            let prim = BlockLane::new::<K::Prim>(bvh.block_of(k), k % BLOCK);
+            let prim = BlockLane::new::<K::Prim>(block, k - start);
             let h = K::intersect_words(&ray, pre, &prim);
             if h.mask.none() {
                 continue;

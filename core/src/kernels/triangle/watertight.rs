@@ -310,6 +310,9 @@ pub(crate) fn sheared_words<L: Lanes, const CULL: bool, const EXACT: bool, W: Wo
 ) -> LanesHit<L> {
     match sh.shared_axes {
         Some(axes) => {
+            // `min(2)`: the axes are 0, 1, 2 by construction; clamped once here (invariant in a
+            // leaf's loop), the permuted reads need no bounds check each.
+            let axes = axes.map(|a| a.min(2));
             let tri = VertexTriangle::from_words::<L, _>(&Permuted { words, axes });
             body::<L, CULL, EXACT, true>(ray, sh, &tri).0
         }
