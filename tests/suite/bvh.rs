@@ -20,7 +20,7 @@ use octoray::kernels::{
 };
 use octoray::lanes::{LaneMask, Lanes, Scalar};
 use octoray::prim::{
-    PackedSphere, PackedTriangle, Primitive, Ray, RayLanes, VertexTriangle, BLOCK,
+    Aabb, PackedSphere, PackedTriangle, Primitive, Ray, RayLanes, VertexTriangle, BLOCK,
 };
 use octoray::tree::{
     closest, closest_packet, closest_packet_with, closest_ray, closest_ray_with, closest_t_packet,
@@ -1104,6 +1104,28 @@ proptest! {
                     }
                 }
             }
+        }
+        // Several slabs at once: the same boxes as one clip per slab, bit for bit (planes in
+        // order, repeated, out of order and NaN among them).
+        let mut planes: Vec<f32> = (0..2 + rng.next_u64() % 10)
+            .map(|_| off[axis] + rng.range(-1.5 * s, 1.5 * s))
+            .collect();
+        planes.sort_by(f32::total_cmp);
+        match rng.next_u64() % 4 {
+            0 => planes.push(planes[0]),
+            1 => planes.insert(1, planes[0]),
+            2 => planes.insert(1, f32::NAN),
+            _ => {}
+        }
+        let bits = |b: Option<Aabb>| b.map(|b| (b.lo.map(f32::to_bits), b.hi.map(f32::to_bits)));
+        let mut vs = vec![None; planes.len() - 1];
+        let mut ps = vs.clone();
+        vt.clip_slabs(axis, &planes, &mut vs);
+        pt.clip_slabs(axis, &planes, &mut ps);
+        for i in 0..planes.len() - 1 {
+            let (lo, hi) = (planes[i], planes[i + 1]);
+            prop_assert_eq!(bits(vs[i]), bits(vt.clip(axis, lo, hi)), "slab {}", i);
+            prop_assert_eq!(bits(ps[i]), bits(pt.clip(axis, lo, hi)), "slab {}", i);
         }
     }
 }

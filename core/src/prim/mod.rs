@@ -50,6 +50,17 @@ impl Aabb {
         }
     }
 
+    /// [`Aabb::union`] of boxes without NaN (the builder's): plain compares, one instruction
+    /// per bound on x86 where `f32::min`'s NaN rule takes three.
+    #[inline]
+    pub(crate) fn union_finite(self, o: Self) -> Self {
+        let (lo, hi) = (self.lo, self.hi);
+        Self {
+            lo: core::array::from_fn(|k| if o.lo[k] < lo[k] { o.lo[k] } else { lo[k] }),
+            hi: core::array::from_fn(|k| if o.hi[k] > hi[k] { o.hi[k] } else { hi[k] }),
+        }
+    }
+
     /// Grows the box to hold point `p`.
     #[inline]
     pub fn grow(self, p: [f32; 3]) -> Self {
@@ -205,71 +216,166 @@ pub trait Primitive: Copy + bytemuck::Pod + Send + Sync {
         b.hi[axis] = b.hi[axis].min(hi);
         (b.lo[axis] <= b.hi[axis]).then_some(b)
     }
+    /// [`Primitive::clip`] to each slab between consecutive `planes` (slab `i`: `planes[i] ≤
+    /// x[axis] ≤ planes[i + 1]`, for `i < out.len()`; `planes` holds one more), into `out[i]`:
+    /// the same boxes. Triangles find each plane's edge crossings once for the two slabs it
+    /// bounds.
+    fn clip_slabs(&self, axis: usize, planes: &[f32], out: &mut [Option<Aabb>]) {
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = match (planes.get(i), planes.get(i + 1)) {
+                (Some(&lo), Some(&hi)) => self.clip(axis, lo, hi),
+                _ => None,
+            };
+        }
+    }
+}
+
+/// The largest f32 at or below `x` (not NaN; −inf below f32's range): `x` rounded to nearest,
+/// then one step down where that went above, branch-free (the step is taken about half the
+/// time, so a branch would mispredict).
+#[cfg(feature = "triangle")]
+#[inline(always)]
+fn f32_at_or_below(x: f64) -> f32 {
+    let f = x as f32;
+    let b = f.to_bits();
+    // One step toward −inf: +0 to the negative subnormal, magnitudes up below zero, down above.
+    let stepped = match (b, b >> 31) {
+        (0, _) => 0x8000_0001,
+        (_, 1) => b + 1,
+        _ => b - 1,
+    };
+    if f as f64 > x {
+        f32::from_bits(stepped)
+    } else {
+        f
+    }
+}
+
+/// The smallest f32 at or above `x` (not NaN; +inf above f32's range), as
+/// [`f32_at_or_below`].
+#[cfg(feature = "triangle")]
+#[inline(always)]
+fn f32_at_or_above(x: f64) -> f32 {
+    let f = x as f32;
+    let b = f.to_bits();
+    // One step toward +inf: −0 to the positive subnormal, magnitudes down below zero, up above.
+    let stepped = match (b, b >> 31) {
+        (0x8000_0000, _) => 1,
+        (_, 1) => b - 1,
+        _ => b + 1,
+    };
+    if (f as f64) < x {
+        f32::from_bits(stepped)
+    } else {
+        f
+    }
 }
 
 /// A box holding the part of triangle `p` (f64 points, exact copies of the kernels' points)
 /// with `lo ≤ x[axis] ≤ hi`, or `None` when no point has (or a coordinate is not finite).
+#[cfg(feature = "triangle")]
+fn clip_triangle(p: [[f64; 3]; 3], axis: usize, lo: f32, hi: f32) -> Option<Aabb> {
+    let mut out = [None];
+    clip_triangle_slabs(p, axis, &[lo, hi], &mut out);
+    out[0]
+}
+
+/// A box of points in f64 (`lo`, `hi`), empty as [`NONE`].
+#[cfg(feature = "triangle")]
+type Span = ([f64; 3], [f64; 3]);
+
+/// The empty [`Span`].
+#[cfg(feature = "triangle")]
+const NONE: Span = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+
+/// Grows `b` to hold `q` (not NaN: plain compares, one instruction each on x86).
+#[cfg(feature = "triangle")]
+#[inline(always)]
+fn add(b: &mut Span, q: [f64; 3]) {
+    for (k, &x) in q.iter().enumerate() {
+        b.0[k] = if x < b.0[k] { x } else { b.0[k] };
+        b.1[k] = if x > b.1[k] { x } else { b.1[k] };
+    }
+}
+
+/// The box of the edges' crossings of the plane `x[axis] = plane` (each crossing on it exactly
+/// in `axis`).
+#[cfg(feature = "triangle")]
+#[inline(always)]
+fn plane_crossings(p: &[[f64; 3]; 3], axis: usize, plane: f64) -> Span {
+    let mut b = NONE;
+    for i in 0..3 {
+        let (a, c) = (p[i], p[(i + 1) % 3]);
+        if (a[axis] < plane) != (c[axis] < plane) {
+            let s = (plane - a[axis]) / (c[axis] - a[axis]);
+            // The plane's coordinate exactly (chosen per component, not stored at a runtime
+            // index: that store and the array's reload would stall store forwarding).
+            let q: [f64; 3] = core::array::from_fn(|j| {
+                let x = a[j] + s * (c[j] - a[j]);
+                if j == axis {
+                    plane
+                } else {
+                    x
+                }
+            });
+            add(&mut b, q);
+        }
+    }
+    b
+}
+
+/// [`clip_triangle`] for each slab between consecutive `planes` (slab `i`: `planes[i] ≤ x[axis]
+/// ≤ planes[i + 1]`, for `i < out.len()`), into `out[i]`: the same boxes, each plane's edge
+/// crossings found once for the two slabs it bounds.
 ///
-/// That part's corners are the vertices inside the slab and the edges' crossings of its two
+/// A part's corners are the vertices inside the slab and the edges' crossings of its two
 /// planes. A crossing takes the plane's coordinate exactly and the others within a few f64 ulps
 /// of the triangle's largest coordinate `m`; the box is grown by `m·2⁻⁴⁰` (far above that
 /// error) and rounded outward to f32, so it holds the exact part.
 #[cfg(feature = "triangle")]
-fn clip_triangle(p: [[f64; 3]; 3], axis: usize, lo: f32, hi: f32) -> Option<Aabb> {
-    let (lo, hi) = (lo as f64, hi as f64);
-    // NaN planes, an empty slab or a triangle that is not finite (never hit): nothing.
-    if lo.partial_cmp(&hi).is_none_or(|o| o.is_gt()) || !p.iter().flatten().all(|x| x.is_finite()) {
-        return None;
-    }
-    let (mut b_lo, mut b_hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    let mut add = |q: [f64; 3]| {
-        for k in 0..3 {
-            b_lo[k] = b_lo[k].min(q[k]);
-            b_hi[k] = b_hi[k].max(q[k]);
-        }
-    };
-    for i in 0..3 {
-        let (a, b) = (p[i], p[(i + 1) % 3]);
-        if lo <= a[axis] && a[axis] <= hi {
-            add(a);
-        }
-        for plane in [lo, hi] {
-            if (a[axis] < plane) != (b[axis] < plane) {
-                let s = (plane - a[axis]) / (b[axis] - a[axis]);
-                let mut q: [f64; 3] = core::array::from_fn(|j| a[j] + s * (b[j] - a[j]));
-                q[axis] = plane;
-                add(q);
-            }
-        }
-    }
-    if b_lo[0] > b_hi[0] {
-        return None; // no point added
+fn clip_triangle_slabs(p: [[f64; 3]; 3], axis: usize, planes: &[f32], out: &mut [Option<Aabb>]) {
+    // A triangle that is not finite (never hit): nothing.
+    if !p.iter().flatten().all(|x| x.is_finite()) {
+        out.fill(None);
+        return;
     }
     let m = p.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
     let grow = m * (1.0 / (1u64 << 40) as f64);
-    let down = |x: f64| {
-        let f = (x - grow) as f32;
-        if f as f64 > x - grow {
-            f.next_down()
-        } else {
-            f
+    let (down, up) = (
+        |x: f64| f32_at_or_below(x - grow),
+        |x: f64| f32_at_or_above(x + grow),
+    );
+    let crossings = |plane: f64| plane_crossings(&p, axis, plane);
+    let mut below = crossings(planes.first().map_or(f64::NAN, |&x| x as f64));
+    for (i, o) in out.iter_mut().enumerate() {
+        let (lo, hi) = (
+            planes[i] as f64,
+            planes.get(i + 1).map_or(f64::NAN, |&x| x as f64),
+        );
+        let above = crossings(hi);
+        // NaN planes or an empty slab: nothing.
+        *o = None;
+        if lo <= hi {
+            let mut b = below;
+            add(&mut b, above.0);
+            add(&mut b, above.1);
+            for v in p {
+                if lo <= v[axis] && v[axis] <= hi {
+                    add(&mut b, v);
+                }
+            }
+            // A part reaching past f32's range (a packed triangle's `v0 + e1`) ends at
+            // ±f32::MAX, as its bounds do.
+            *o = (b.0[0] <= b.1[0]).then(|| {
+                Aabb {
+                    lo: [down(b.0[0]), down(b.0[1]), down(b.0[2])],
+                    hi: [up(b.1[0]), up(b.1[1]), up(b.1[2])],
+                }
+                .clamped()
+            });
         }
-    };
-    let up = |x: f64| {
-        let f = (x + grow) as f32;
-        if (f as f64) < x + grow {
-            f.next_up()
-        } else {
-            f
-        }
-    };
-    // A part reaching past f32's range (a packed triangle's `v0 + e1`) ends at ±f32::MAX, as
-    // its bounds do.
-    let bx = Aabb {
-        lo: b_lo.map(down),
-        hi: b_hi.map(up),
-    };
-    Some(bx.clamped())
+        below = above;
+    }
 }
 
 /// A source of primitives' `f32` words for [`Primitive::from_words`]: word `k` of the primitive
@@ -412,4 +518,57 @@ fn padded<P: bytemuck::Pod>(prims: &[P]) -> [P; MAX_LANES] {
     let n = prims.len().min(MAX_LANES);
     a[..n].copy_from_slice(&prims[..n]);
     a
+}
+
+#[cfg(all(test, feature = "triangle"))]
+mod tests {
+    extern crate std;
+    use super::{f32_at_or_above, f32_at_or_below};
+
+    /// The outward roundings equal `next_down`/`next_up` of the nearest f32 where it lies past
+    /// `x`: at f64 values between and on f32s of every scale and sign, ±0, the subnormals and
+    /// beyond f32's range.
+    #[test]
+    fn outward_roundings_bracket_every_value() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut values = std::vec![
+            0.0f64,
+            -0.0,
+            f64::from(f32::MAX) * 2.0,
+            -f64::from(f32::MAX) * 2.0
+        ];
+        for _ in 0..200_000 {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            let f = f32::from_bits(seed as u32);
+            if !f.is_finite() {
+                continue;
+            }
+            let g = f as f64;
+            // The f32 itself, and points a little off it either way (halfway included).
+            let ulp = (f.next_up() as f64 - g)
+                .abs()
+                .max((g - f.next_down() as f64).abs());
+            let frac = (seed >> 40) as f64 / (1u64 << 24) as f64;
+            values.extend([
+                g,
+                g + ulp * frac,
+                g - ulp * frac,
+                g + ulp / 2.0,
+                g - ulp / 2.0,
+            ]);
+        }
+        for x in values {
+            let n = x as f32;
+            let below = if n as f64 > x { n.next_down() } else { n };
+            let above = if (n as f64) < x { n.next_up() } else { n };
+            assert_eq!(f32_at_or_below(x).to_bits(), below.to_bits(), "{x:e}");
+            assert_eq!(f32_at_or_above(x).to_bits(), above.to_bits(), "{x:e}");
+            assert!(
+                f32_at_or_below(x) as f64 <= x && f32_at_or_above(x) as f64 >= x,
+                "{x:e}"
+            );
+        }
+    }
 }

@@ -2,7 +2,7 @@
 //! and the unit normal: what the watertight kernel and the textbook read) and [`PackedTriangle`]
 //! (`v0` and two edges: what Möller-Trumbore reads), and their lanes.
 
-use super::{clip_triangle, down, up, Aabb, Primitive, Words};
+use super::{clip_triangle, clip_triangle_slabs, down, up, Aabb, Primitive, Words};
 use crate::lanes::{Lanes, Scalar, V3};
 use glam::Vec3;
 
@@ -29,6 +29,12 @@ pub struct PackedTriangle {
 }
 
 impl PackedTriangle {
+    /// The corners as the kernels read them, exactly (`v0 + e1` and `v0 + e2` in f64).
+    fn points(&self) -> [[f64; 3]; 3] {
+        let p = |e: [f32; 3]| core::array::from_fn(|k| self.v0[k] as f64 + e[k] as f64);
+        [p([0.0; 3]), p(self.e1), p(self.e2)]
+    }
+
     /// Packs three vertices.
     pub fn new(v0: Vec3, v1: Vec3, v2: Vec3) -> Self {
         Self::from_edges(v0.to_array(), (v1 - v0).to_array(), (v2 - v0).to_array())
@@ -70,6 +76,11 @@ pub struct VertexTriangle {
 }
 
 impl VertexTriangle {
+    /// The vertices in f64.
+    fn points(&self) -> [[f64; 3]; 3] {
+        [self.v0, self.v1, self.v2].map(|v| v.map(f64::from))
+    }
+
     /// Stores three vertices and their normal.
     pub fn new(v0: Vec3, v1: Vec3, v2: Vec3) -> Self {
         let (v0, v1, v2) = (v0.to_array(), v1.to_array(), v2.to_array());
@@ -171,8 +182,10 @@ impl Primitive for PackedTriangle {
 
     fn clip(&self, axis: usize, lo: f32, hi: f32) -> Option<Aabb> {
         // v0 + e1 and v0 + e2 in f64 are the kernels' exact points.
-        let p = |e: [f32; 3]| core::array::from_fn(|k| self.v0[k] as f64 + e[k] as f64);
-        clip_triangle([p([0.0; 3]), p(self.e1), p(self.e2)], axis, lo, hi)
+        clip_triangle(self.points(), axis, lo, hi)
+    }
+    fn clip_slabs(&self, axis: usize, planes: &[f32], out: &mut [Option<Aabb>]) {
+        clip_triangle_slabs(self.points(), axis, planes, out);
     }
 }
 
@@ -207,8 +220,10 @@ impl Primitive for VertexTriangle {
     }
 
     fn clip(&self, axis: usize, lo: f32, hi: f32) -> Option<Aabb> {
-        let p = |v: [f32; 3]| v.map(f64::from);
-        clip_triangle([p(self.v0), p(self.v1), p(self.v2)], axis, lo, hi)
+        clip_triangle(self.points(), axis, lo, hi)
+    }
+    fn clip_slabs(&self, axis: usize, planes: &[f32], out: &mut [Option<Aabb>]) {
+        clip_triangle_slabs(self.points(), axis, planes, out);
     }
 }
 
