@@ -86,7 +86,7 @@ fn builds(md: &mut String, s: &Section) {
     let (node, leaf, blocks) = s.sah;
     writeln!(
         md,
-        "\nPeers' builds (1 thread): {}; octoray {:.3} s (SAH cost {:.1} = {node:.1} node + {leaf:.1} leaf; in blocks of 8: {:.1}). SAH costs: 1 per node visit and 1 per primitive test (\"in blocks of 8\": 1 per leaf block of up to 8, what one octoray leaf test costs), relative to the scene's box.",
+        "\nPeers' builds (1 thread, but tinybvh's `BuildHQ`, which runs subtrees as jobs on every core): {}; octoray {:.3} s (SAH cost {:.1} = {node:.1} node + {leaf:.1} leaf; in blocks of 8: {:.1}). SAH costs: 1 per node visit and 1 per primitive test (\"in blocks of 8\": 1 per leaf block of up to 8, what one octoray leaf test costs), relative to the scene's box.",
         line.join(", "),
         s.times.one,
         s.stats.sah_cost,

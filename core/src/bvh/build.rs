@@ -744,9 +744,10 @@ const SPATIAL_OVERLAP: f32 = 1e-4;
 
 /// Bins a spatial split is sought among (at most; fewer where the node's object binning has
 /// fewer): each primitive long against the node is clipped to every bin it spans, so this is
-/// most of the sweep's cost. 16 gives trees within about 1 % of 32 bins' SAH cost on the scene
-/// suite in half the build time; 8 (tinybvh `BuildHQ`'s) cost 5 % on the city of needles.
-const SPATIAL_BINS: usize = 16;
+/// most of the sweep's cost. Fewer were measured worse where spatial splits matter most: on
+/// the city of needles, 8 (tinybvh `BuildHQ`'s) cost 4–5 % more instructions per ray and 16
+/// up to 18 % (its planes fall badly on the city's grid), for half the build time.
+const SPATIAL_BINS: usize = 32;
 
 /// The bins of a spatial split at a node whose object binning has `nb`.
 #[inline]

@@ -52,6 +52,7 @@ impl Aabb {
 
     /// [`Aabb::union`] of boxes without NaN (the builder's): plain compares, one instruction
     /// per bound on x86 where `f32::min`'s NaN rule takes three.
+    #[cfg(feature = "alloc")]
     #[inline]
     pub(crate) fn union_finite(self, o: Self) -> Self {
         let (lo, hi) = (self.lo, self.hi);

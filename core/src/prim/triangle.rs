@@ -181,7 +181,6 @@ impl Primitive for PackedTriangle {
     }
 
     fn clip(&self, axis: usize, lo: f32, hi: f32) -> Option<Aabb> {
-        // v0 + e1 and v0 + e2 in f64 are the kernels' exact points.
         clip_triangle(self.points(), axis, lo, hi)
     }
     fn clip_slabs(&self, axis: usize, planes: &[f32], out: &mut [Option<Aabb>]) {

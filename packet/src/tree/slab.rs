@@ -343,8 +343,9 @@ impl Frustum {
 /// vector's results no meaning, the others' stay exact).
 ///
 /// A transpose brings lane `i` of every vector into one `f32x8`, and a tree of elementwise
-/// `min`/`max` reduces those: sixteen reductions for the shuffles of one. Unset lanes, and the
-/// padding of packets narrower than 8, repeat the first set lane, which changes no extreme.
+/// `min`/`max` reduces those: sixteen reductions for the shuffles of one. Unset lanes repeat
+/// the first set lane, and packets narrower than 8 are padded with repeats of their lanes: no
+/// extreme changes.
 #[inline(always)]
 pub(super) fn extremes8<L: Lanes>(x: [L; 8], m: L::Mask) -> ([f32; 8], [f32; 8]) {
     let x = if m.all() {
@@ -361,7 +362,8 @@ pub(super) fn extremes8<L: Lanes>(x: [L; 8], m: L::Mask) -> ([f32; 8], [f32; 8])
             }))
         }))
     };
-    let (mut lo, mut hi) = (half(0), half(0));
+    let first_half = half(0);
+    let (mut lo, mut hi) = (first_half, first_half);
     if L::LANES > 8 {
         let b = half(1);
         for i in 0..8 {
