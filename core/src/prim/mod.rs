@@ -252,24 +252,12 @@ fn f32_at_or_below(x: f64) -> f32 {
     }
 }
 
-/// The smallest f32 at or above `x` (not NaN; +inf above f32's range), as
-/// [`f32_at_or_below`].
+/// The smallest f32 at or above `x` (not NaN; +inf above f32's range): the mirror of
+/// [`f32_at_or_below`] (negation is exact and both roundings are symmetric).
 #[cfg(feature = "triangle")]
 #[inline(always)]
 fn f32_at_or_above(x: f64) -> f32 {
-    let f = x as f32;
-    let b = f.to_bits();
-    // One step toward +inf: −0 to the positive subnormal, magnitudes down below zero, up above.
-    let stepped = match (b, b >> 31) {
-        (0x8000_0000, _) => 1,
-        (_, 1) => b - 1,
-        _ => b + 1,
-    };
-    if (f as f64) < x {
-        f32::from_bits(stepped)
-    } else {
-        f
-    }
+    -f32_at_or_below(-x)
 }
 
 /// A box holding the part of triangle `p` (f64 points, exact copies of the kernels' points)
