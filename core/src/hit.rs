@@ -10,7 +10,7 @@ use crate::prim::RayLanes;
 /// A hit: the ray parameter, the barycentrics of `v1` and `v2` (zero for spheres), the index of
 /// the primitive in its geometry's slice (zero for single-primitive tests), and which geometry
 /// and instance of a scene it belongs to (both zero outside a scene: one slice, placed once).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Hit {
     /// Ray parameter of the hit, finite and inside `[t_min, t_max]`.
     pub t: f32,

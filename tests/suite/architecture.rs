@@ -166,6 +166,8 @@ const TREE_LAYERS: &[(&str, &[&str])] = &[
     ("packet", &["epilog", "leaf", "slab", "single"]),
     ("batch", &["epilog", "packet", "single"]),
     ("queries", &["epilog", "leaf", "packet", "single", "batch"]),
+    ("all_hits", &["queries"]),
+    ("solid", &["all_hits"]),
     ("box_test", &["slab"]),
 ];
 

@@ -33,6 +33,8 @@ mod recommend;
 #[cfg(not(octoray_isa_slice))]
 mod scene;
 #[cfg(not(octoray_isa_slice))]
+mod solid;
+#[cfg(not(octoray_isa_slice))]
 mod untrusted_scenes;
 #[cfg(not(octoray_isa_slice))]
 mod watertight;

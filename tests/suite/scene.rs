@@ -16,6 +16,7 @@ use octoray::scene::{
     Geometry, Instance, Member, Scene, SceneError, SceneParts, SceneRef, SceneTree, Trace, Tracer,
     Transform,
 };
+use octoray::tree::hit_order;
 use octoray::{f32x16, f32x4, f32x8, query};
 use proptest::prelude::*;
 use testkit::stored::{word, words, FIRST_MEMBER, FIRST_UNBOUNDED, LEVELS, MASK, PATHS, SLACK};
@@ -112,8 +113,62 @@ where
     let mut best: Option<(S1::Scalar, Hit)> = None;
     let mut any = false;
     let mut path = 0;
-    brute_level::<S1, KT, KS>(w, &w.insts, ray, mask, &mut path, &mut best, &mut any);
+    let mut found = Brute {
+        best: &mut best,
+        any: &mut any,
+        all: None,
+    };
+    brute_level::<S1, KT, KS>(w, &w.insts, ray, mask, &mut path, &mut found);
     (best.map(|b| b.1), any)
+}
+
+/// Brute force's every hit: each admitted instance's primitives one at a time, in hit order.
+fn brute_all<S1: Lanes, KT, KS>(
+    w: &World<<KT as Kernel<S1>>::Prim>,
+    ray: &Ray,
+    mask: u32,
+) -> Vec<Hit>
+where
+    KT: Kernel<S1>,
+    KS: Kernel<S1, Prim = PackedSphere>,
+{
+    let (mut best, mut any, mut all) = (None, false, Vec::new());
+    let mut found = Brute {
+        best: &mut best,
+        any: &mut any,
+        all: Some(&mut all),
+    };
+    brute_level::<S1, KT, KS>(w, &w.insts, ray, mask, &mut 0, &mut found);
+    all.sort_by(hit_order);
+    all
+}
+
+/// What brute force gathers: the best hit, whether any, and (when asked) every hit.
+struct Brute<'b, S> {
+    best: &'b mut Option<(S, Hit)>,
+    any: &'b mut bool,
+    all: Option<&'b mut Vec<Hit>>,
+}
+
+/// Every hit of `ray` on each primitive of `prims` alone, as geometry `geom` of instance `inst`.
+fn each_hit<S1: Lanes, K: Kernel<S1>>(
+    r: &RayLanes<S1>,
+    prims: &[K::Prim],
+    geom: u32,
+    inst: u32,
+) -> Vec<Hit> {
+    (0..prims.len())
+        .filter_map(|i| {
+            query::closest::<S1, K>(r, &prims[i..=i])
+                .lane(0)
+                .map(|h| Hit {
+                    prim: i as u32,
+                    geom,
+                    inst,
+                    ..h
+                })
+        })
+        .collect()
 }
 
 /// [`brute`] over one level's placements, the ray in its space, `mask` the AND of the query's
@@ -125,8 +180,7 @@ fn brute_level<S1: Lanes, KT, KS>(
     ray: &Ray,
     mask: u32,
     path: &mut u32,
-    best: &mut Option<(S1::Scalar, Hit)>,
-    any: &mut bool,
+    found: &mut Brute<'_, S1::Scalar>,
 ) where
     KT: Kernel<S1>,
     KS: Kernel<S1, Prim = PackedSphere>,
@@ -136,7 +190,7 @@ fn brute_level<S1: Lanes, KT, KS>(
         let geoms = match &inst.target {
             Target::Group(g) => {
                 let places = &w.groups[*g];
-                brute_level::<S1, KT, KS>(w, places, &ray, mask & inst.mask, path, best, any);
+                brute_level::<S1, KT, KS>(w, places, &ray, mask & inst.mask, path, found);
                 continue;
             }
             Target::Geoms(geoms) => geoms,
@@ -157,14 +211,20 @@ fn brute_level<S1: Lanes, KT, KS>(
                     query::occluded::<S1, KS>(&r, p),
                 ),
             };
-            *any |= occ.bitmask() & 1 == 1;
+            *found.any |= occ.bitmask() & 1 == 1;
             if let Some(mut hit) = h.lane(0) {
                 hit.geom = geom;
                 hit.inst = *path;
                 let t = h.t.lane(0);
-                if best.is_none_or(|(bt, _)| t < bt) {
-                    *best = Some((t, hit));
+                if found.best.is_none_or(|(bt, _)| t < bt) {
+                    *found.best = Some((t, hit));
                 }
+            }
+            if let Some(all) = found.all.as_deref_mut() {
+                all.extend(match g {
+                    Geom::Tris(p) => each_hit::<S1, KT>(&r, p, geom, *path),
+                    Geom::Spheres(p) => each_hit::<S1, KS>(&r, p, geom, *path),
+                });
             }
         }
         *path += 1;
@@ -218,6 +278,14 @@ where
                 assert_eq!((any_packet >> i) & 1 == 1, any, "occluded packet {ray:?}");
                 assert_eq!(occ[k], any, "occluded slice {ray:?}");
                 hits += want.is_some() as usize;
+                if mask == masks[0] {
+                    let all = brute_all::<S1, KT, KS>(w, ray, mask);
+                    assert_eq!(
+                        all_hits::<L, KT, KS>(scene, ray, mask, 3),
+                        all,
+                        "all hits {name} {ray:?}"
+                    );
+                }
             }
         }
     }
@@ -249,6 +317,24 @@ where
         }
     }
     hits
+}
+
+/// Every hit of `ray` through the scene, `cap` at a time.
+fn all_hits<L: Lanes, KT: Kernel<L>, KS: Kernel<L, Prim = PackedSphere>>(
+    scene: SceneRef<'_, KT::Prim, PackedSphere>,
+    ray: &Ray,
+    mask: u32,
+    cap: usize,
+) -> Vec<Hit> {
+    let (mut got, mut page, mut after) = (Vec::new(), vec![Hit::default(); cap], None);
+    loop {
+        let found = scene.all_hits_ray::<L, KT, KS>(ray, mask, after, &mut page);
+        got.extend_from_slice(&page[..found.stored]);
+        if found.complete {
+            return got;
+        }
+        after = Some(page[cap - 1]);
+    }
 }
 
 /// A packet's ray masks must be one per lane, a slice's one per ray.

@@ -8,7 +8,9 @@
 //!   optionally with spatial splits ([`BuildOptions::SPATIAL`], [`Bvh8::try_build_options`]).
 //! - [`Bvh8Ref`]: the same tree as three borrowed slices (nodes, the primitives in leaf order in
 //!   SoA blocks of [`BLOCK`], their indices in the caller's slice). Traversal needs nothing
-//!   else: no allocator, no `std`. A tree built on a host can be written out with `bytemuck`
+//!   else: no allocator, no `std`.
+//! - [`Solid`] (features `alloc`, `triangle`): a tree with the triangles it was built from,
+//!   checked to be a closed surface: what exact containment needs. A tree built on a host can be written out with `bytemuck`
 //!   and traversed on a target from `&'static` data, after [`Bvh8Ref::new`] has validated it.
 //!
 //! # Boxes
@@ -43,6 +45,8 @@
 mod build;
 #[cfg(feature = "alloc")]
 mod collapse;
+#[cfg(all(feature = "alloc", feature = "triangle"))]
+mod solid;
 
 use crate::prim::{Primitive, BLOCK};
 
@@ -482,3 +486,5 @@ impl<'a, P: Primitive> Bvh8Ref<'a, P> {
 pub(crate) use build::refit_parts;
 #[cfg(feature = "alloc")]
 pub use build::{BuildOptions, BuildStats, Bvh8, Join, Sequential};
+#[cfg(all(feature = "alloc", feature = "triangle"))]
+pub use solid::{Solid, SolidError};

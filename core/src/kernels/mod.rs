@@ -6,6 +6,7 @@
 //! | standard | [`MollerTrumbore`] | [`PackedTriangle`] | [`crate::kernels::triangle::moller_trumbore`] |
 //! | watertight | [`Watertight`] | [`VertexTriangle`] | [`crate::kernels::triangle::watertight`] |
 //! | exact | [`Exact`] | [`VertexTriangle`] | [`crate::kernels::triangle::exact`] |
+//! | exact, each crossing once | [`ExactCrossing`] | [`VertexTriangle`] | [`crate::kernels::triangle::crossing`] |
 //! | f64 | the standard, watertight and sphere kernels at `L = f64`, `f64x4`, `f64x8`  | same | same math, f64 rounding |
 //! | sphere stable | [`StableSphere`] | [`PackedSphere`] | [`crate::kernels::sphere::stable`] |
 //! | sphere naive | [`NaiveSphere`] | [`PackedSphere`] | [`crate::kernels::sphere::naive`] |
@@ -109,6 +110,14 @@ pub struct Exact<const CULL: bool = false>;
 #[cfg(feature = "triangle")]
 pub type ExactCulled = Exact<true>;
 
+/// Exact tier with every tie broken once (a symbolic perturbation of the ray's origin,
+/// [`crate::kernels::triangle::crossing`]): a ray through an edge or vertex of a closed mesh
+/// crosses exactly one of the triangles there, and `t_min`/`t_max` are never met exactly. What
+/// crossing counts and containment are built on.
+#[cfg(feature = "triangle")]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ExactCrossing;
+
 #[cfg(feature = "triangle")]
 impl<const CULL: bool> Exact<CULL> {
     /// The lanes of `ray` that the exact tier decides past its filter against `tri` (in f64 or
@@ -210,3 +219,38 @@ macro_rules! sheared_kernel {
 
 sheared_kernel!(Watertight, false);
 sheared_kernel!(Exact, true);
+
+#[cfg(feature = "triangle")]
+impl<L: Lanes> Kernel<L> for ExactCrossing {
+    type Prim = VertexTriangle;
+    type Pre = crate::kernels::triangle::watertight::ShearedRay<L>;
+    const EXACT_T_MAX: bool = true;
+    #[inline(always)]
+    fn prepare(ray: &RayLanes<L>) -> Self::Pre {
+        crate::kernels::triangle::watertight::ShearedRay::new(ray)
+    }
+    #[inline(always)]
+    fn intersect_lanes(
+        ray: &RayLanes<L>,
+        pre: &Self::Pre,
+        prim: &crate::prim::VertexLanes<L>,
+    ) -> LanesHit<L> {
+        let h =
+            crate::kernels::triangle::watertight::sheared_body::<L, false, true>(ray, pre, prim);
+        crate::kernels::triangle::crossing::keep_crossings(ray, prim, h)
+    }
+    #[inline(always)]
+    fn intersect_words<W: Words>(ray: &RayLanes<L>, pre: &Self::Pre, words: &W) -> LanesHit<L> {
+        let h = crate::kernels::triangle::watertight::sheared_words::<L, false, true, W>(
+            ray, pre, words,
+        );
+        if !crate::lanes::LaneMask::any(h.mask) {
+            return h;
+        }
+        crate::kernels::triangle::crossing::keep_crossings(
+            ray,
+            &VertexTriangle::from_words::<L, W>(words),
+            h,
+        )
+    }
+}

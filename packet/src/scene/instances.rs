@@ -2,6 +2,7 @@
 //! instance's object space and walk its geometry's tree ([`Instances`], a [`Leaf`]).
 
 use super::masks::{check_masks, RayMasks};
+use crate::tree::all_hits::{AllHits, Collect};
 use crate::tree::batch::{closest_slice, occluded_slice};
 use crate::tree::epilog::UNPLACED;
 use crate::tree::epilog::{bound, Best, PacketBest};
@@ -607,6 +608,21 @@ pub trait Trace<T, S> {
         mask: u32,
         filter: &mut F,
     ) -> bool;
+    /// Every hit of one ray in `[t_min, t_max]` under `mask`, nearest first, into `out`, after
+    /// the cursor `after`: as [`crate::tree::all_hits_ray`] (each primitive of each instance
+    /// once, in [`crate::tree::hit_order`]; a full buffer's answer is not
+    /// [`AllHits::complete`], and the next call continues after its last hit).
+    fn all_hits_ray<L: Lanes, KT: Kernel<L, Prim = T>, KS: Kernel<L, Prim = S>>(
+        &self,
+        ray: &Ray,
+        mask: u32,
+        after: Option<Hit>,
+        out: &mut [Hit],
+    ) -> AllHits {
+        let mut collect = Collect::new(out, after);
+        self.occluded_ray_with::<L, KT, KS, _>(ray, mask, &mut collect);
+        collect.found()
+    }
     /// Closest hit per lane of a packet (lane by lane equal to [`Trace::closest_ray`] under the
     /// lane's mask).
     ///

@@ -2,6 +2,7 @@
 
 use super::instances::Trace;
 use super::masks::RayMasks;
+use crate::tree::AllHits;
 use core::marker::PhantomData;
 use octoray_core::hit::{Hit, HitFilter};
 use octoray_core::kernels::Kernel;
@@ -100,6 +101,17 @@ impl<'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Tracer<'a, L, KT, KS> {
     pub fn occluded_ray_with<F: HitFilter>(&self, ray: &Ray, mask: u32, filter: &mut F) -> bool {
         self.scene
             .occluded_ray_with::<L, KT, KS, F>(ray, mask, filter)
+    }
+
+    /// [`Trace::all_hits_ray`].
+    pub fn all_hits_ray(
+        &self,
+        ray: &Ray,
+        mask: u32,
+        after: Option<Hit>,
+        out: &mut [Hit],
+    ) -> AllHits {
+        self.scene.all_hits_ray::<L, KT, KS>(ray, mask, after, out)
     }
 
     /// [`Trace::closest_packet`].

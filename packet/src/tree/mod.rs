@@ -52,6 +52,7 @@ use octoray_core::{
     prim::BLOCK,
 };
 
+pub(crate) mod all_hits;
 pub(crate) mod batch;
 pub(crate) mod epilog;
 pub(crate) mod leaf;
@@ -59,12 +60,19 @@ pub(crate) mod packet;
 mod queries;
 pub(crate) mod single;
 pub(crate) mod slab;
+#[cfg(feature = "triangle")]
+mod solid;
 
 #[cfg(test)]
 mod box_test;
 
+pub use all_hits::{all_hits_ray, hit_order, AllHits};
 pub use queries::{
     closest, closest_packet, closest_packet_with, closest_ray, closest_ray_with, closest_t_packet,
     closest_with, occluded, occluded_packet, occluded_packet_with, occluded_ray, occluded_ray_with,
     occluded_with,
 };
+#[cfg(feature = "triangle")]
+pub use solid::crossings_ray;
+#[cfg(all(feature = "triangle", feature = "alloc"))]
+pub use solid::{contains, winding_number};

@@ -345,11 +345,73 @@ pub(super) fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-/// [`resolve`]'s f64 stage: `Some(answer)` where every decision is certified, `None` where one
-/// is not. f32 inputs keep every product of three far inside f64's range (1e-135 … 1e115), so
-/// the only errors are roundings: each difference `v − o` once, each determinant term at most
-/// seven more times, so `|ŵ − w| ≤ γ₈·perm` (16u·perm is used, u = 2⁻⁵³, which also covers the
-/// rounding of the permanent); `D̂ = Σŵᵢ` adds `3u·Σ|ŵᵢ|`; `N̂ − b·D̂` adds `3u·(|N̂| + |b·D̂|)`.
+/// The plane quantities of [`ExactPlane`] in f64, each with a certified bound on its error. f32
+/// inputs keep every product of three far inside f64's range (1e-135 … 1e115), so the only
+/// errors are roundings: each difference `v − o` once, each determinant term at most seven more
+/// times, so `|ŵ − w| ≤ γ₈·perm` (16u·perm is used, u = 2⁻⁵³, which also covers the rounding of
+/// the permanent); `D̂ = Σŵᵢ` adds `3u·Σ|ŵᵢ|`; `N̂ − b·D̂` adds `3u·(|N̂| + |b·D̂|)`.
+pub(super) struct PlaneF64 {
+    /// `wᵢ` and its error bound.
+    pub w: [(f64, f64); 3],
+    /// `N` and its error bound.
+    pub num: (f64, f64),
+    /// `D` and its error bound.
+    pub den: (f64, f64),
+}
+
+impl PlaneF64 {
+    /// The quantities, or `None` when one is not finite (a non-finite input).
+    pub fn new(o: P, d: P, v: [P; 3]) -> Option<Self> {
+        let u = f64::EPSILON / 2.0;
+        let wide = |p: P| p.map(f64::from);
+        let rel = |p: P| sub3(wide(p), wide(o));
+        let (a, dd) = ([rel(v[0]), rel(v[1]), rel(v[2])], wide(d));
+        let mut w = [(0.0, 0.0); 3];
+        for (i, wi) in w.iter_mut().enumerate() {
+            let (val, perm) = det_f64(dd, a[(i + 1) % 3], a[(i + 2) % 3]);
+            *wi = (val, 16.0 * u * perm);
+        }
+        let (num, perm_n) = det_f64(a[0], a[1], a[2]);
+        let err_n = 16.0 * u * perm_n;
+        let den = w[0].0 + w[1].0 + w[2].0;
+        let err_d =
+            w[0].1 + w[1].1 + w[2].1 + 3.0 * u * (w[0].0.abs() + w[1].0.abs() + w[2].0.abs());
+        let finite = num.is_finite() && den.is_finite() && err_n.is_finite() && err_d.is_finite();
+        finite.then_some(Self {
+            w,
+            num: (num, err_n),
+            den: (den, err_d),
+        })
+    }
+
+    /// `t` compared with `b` (`sign(N − b·D)·sign(D)`), where certified; `D` must be certified
+    /// nonzero.
+    pub fn t_cmp(&self, b: f64) -> Option<Ordering> {
+        if b.is_infinite() {
+            return Some(if b > 0.0 {
+                Ordering::Less
+            } else {
+                Ordering::Greater
+            });
+        }
+        let u = f64::EPSILON / 2.0;
+        let ((num, err_n), (den, err_d)) = (self.num, self.den);
+        let bd = b * den;
+        let x = num - bd;
+        let err = err_n + b.abs() * err_d + 3.0 * u * (num.abs() + bd.abs());
+        if x.abs().partial_cmp(&err) != Some(Ordering::Greater) {
+            return None;
+        }
+        Some(if (x > 0.0) == (den > 0.0) {
+            Ordering::Greater
+        } else {
+            Ordering::Less
+        })
+    }
+}
+
+/// [`resolve`]'s f64 stage ([`PlaneF64`]): `Some(answer)` where every decision is certified,
+/// `None` where one is not.
 fn resolve_f64(q: &LaneQuery) -> Option<Option<Resolved>> {
     let LaneQuery {
         o,
@@ -359,22 +421,8 @@ fn resolve_f64(q: &LaneQuery) -> Option<Option<Resolved>> {
         cull,
         ..
     } = *q;
-    let u = f64::EPSILON / 2.0;
-    let wide = |p: P| p.map(f64::from);
-    let rel = |p: P| sub3(wide(p), wide(o));
-    let (a, dd) = ([rel(v[0]), rel(v[1]), rel(v[2])], wide(d));
-    let mut w = [(0.0, 0.0); 3];
-    for (i, wi) in w.iter_mut().enumerate() {
-        let (val, perm) = det_f64(dd, a[(i + 1) % 3], a[(i + 2) % 3]);
-        *wi = (val, 16.0 * u * perm);
-    }
-    let (num, perm_n) = det_f64(a[0], a[1], a[2]);
-    let err_n = 16.0 * u * perm_n;
-    let den = w[0].0 + w[1].0 + w[2].0;
-    let err_d = w[0].1 + w[1].1 + w[2].1 + 3.0 * u * (w[0].0.abs() + w[1].0.abs() + w[2].0.abs());
-    if !(num.is_finite() && den.is_finite() && err_n.is_finite() && err_d.is_finite()) {
-        return None;
-    }
+    let plane = PlaneF64::new(o, d, v)?;
+    let (w, (num, err_n), (den, err_d)) = (plane.w, plane.num, plane.den);
     if den.abs() <= err_d {
         return None;
     }
@@ -391,33 +439,13 @@ fn resolve_f64(q: &LaneQuery) -> Option<Option<Resolved>> {
             return Some(None);
         }
     }
-    // sign(t − b) = sign(N − b·D)·sign(D), certified or None.
-    let cmp = |b: f64| -> Option<Ordering> {
-        if b.is_infinite() {
-            return Some(if b > 0.0 {
-                Ordering::Less
-            } else {
-                Ordering::Greater
-            });
-        }
-        let bd = b * den;
-        let x = num - bd;
-        let err = err_n + b.abs() * err_d + 3.0 * u * (num.abs() + bd.abs());
-        if x.abs().partial_cmp(&err) != Some(Ordering::Greater) {
-            return None;
-        }
-        Some(if (x > 0.0) == (den > 0.0) {
-            Ordering::Greater
-        } else {
-            Ordering::Less
-        })
-    };
+    let cmp = |b: f64| plane.t_cmp(b);
     let (lo, hi) = finite_range(q);
     if cmp(lo)? == Ordering::Less || cmp(hi)? == Ordering::Greater {
         return Some(None);
     }
     // t to 2⁻³² relative, else the exact stage (t near 0, or N and D barely certified).
-    let t_rel = 1.01 * (err_n / num.abs() + err_d / den.abs()) + 2.0 * u;
+    let t_rel = 1.01 * (err_n / num.abs() + err_d / den.abs()) + f64::EPSILON;
     if q.needs_t
         && !matches!(
             t_rel.partial_cmp(&(1.0 / 4_294_967_296.0)),

@@ -1,6 +1,8 @@
 //! Ray-triangle kernels, one file per algorithm: [`moller_trumbore`] (the standard tier, and
-//! its culling form) and [`watertight`] (Woop, Benthin and Wald 2013).
+//! its culling form), [`watertight`] (Woop, Benthin and Wald 2013), [`exact`] (its decisions made
+//! exact) and [`crossing`] (the exact decisions with every tie broken once).
 
+pub mod crossing;
 pub mod exact;
 pub mod moller_trumbore;
 pub mod watertight;

@@ -1,0 +1,139 @@
+//! Every hit along a ray, in order, into a caller's buffer: [`all_hits_ray`] and the collector
+//! the scene's query shares.
+
+use super::queries::occluded_ray_with;
+use core::cmp::Ordering;
+use octoray_core::bvh::Bvh8Ref;
+use octoray_core::hit::{Candidate, Hit, HitFilter};
+use octoray_core::kernels::Kernel;
+use octoray_core::lanes::Lanes;
+use octoray_core::prim::Ray;
+
+/// What an all-hits query stored: `out[..stored]` holds distinct hits in hit order, and
+/// `complete` says whether they are all the hits after the cursor (else they are the first
+/// `out.len()` of them, and the next call continues after `out[stored - 1]`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct AllHits {
+    /// Hits written to the front of the buffer.
+    pub stored: usize,
+    /// No hit was left out for want of room.
+    pub complete: bool,
+}
+
+/// The hit order: `t`, then instance, geometry and primitive (a total order on hits, under
+/// which two reports of one primitive at one `t` are one hit).
+pub fn hit_order(a: &Hit, b: &Hit) -> Ordering {
+    a.t.total_cmp(&b.t)
+        .then(a.inst.cmp(&b.inst))
+        .then(a.geom.cmp(&b.geom))
+        .then(a.prim.cmp(&b.prim))
+}
+
+/// A filter that rejects every hit and keeps the first `out.len()` distinct ones after a cursor
+/// in hit order, sorted: the walk then offers it every hit in range.
+pub(crate) struct Collect<'o> {
+    out: &'o mut [Hit],
+    len: usize,
+    after: Option<Hit>,
+    dropped: bool,
+}
+
+impl<'o> Collect<'o> {
+    /// An empty collection into `out` of the hits after `after`.
+    pub fn new(out: &'o mut [Hit], after: Option<Hit>) -> Self {
+        Self {
+            out,
+            len: 0,
+            after,
+            dropped: false,
+        }
+    }
+
+    /// What was stored.
+    pub fn found(&self) -> AllHits {
+        AllHits {
+            stored: self.len,
+            complete: !self.dropped,
+        }
+    }
+
+    /// Inserts `h` in order unless it is a repeat, at or before the cursor, or past a full
+    /// buffer's last hit (then the query is incomplete).
+    fn insert(&mut self, h: Hit) {
+        if self
+            .after
+            .is_some_and(|a| hit_order(&h, &a) != Ordering::Greater)
+        {
+            return;
+        }
+        let Err(at) = self.out[..self.len].binary_search_by(|x| hit_order(x, &h)) else {
+            return;
+        };
+        if self.len == self.out.len() {
+            // Full: a later hit is left out; a nearer one takes the last one's place. A repeat
+            // of a hit left out is never nearer than the last one kept, so it stays out.
+            self.dropped = true;
+            if at == self.len {
+                return;
+            }
+            self.len -= 1;
+        }
+        self.out.copy_within(at..self.len, at + 1);
+        self.out[at] = h;
+        self.len += 1;
+    }
+}
+
+impl HitFilter for Collect<'_> {
+    fn accept(&mut self, c: &Candidate) -> bool {
+        self.insert(Hit {
+            t: c.t,
+            u: c.u,
+            v: c.v,
+            prim: c.prim,
+            geom: c.geom,
+            inst: c.inst,
+        });
+        false
+    }
+}
+
+/// Every hit of one ray in `[t_min, t_max]` with kernel `K`, nearest first, into `out`: each
+/// primitive once (also where spatial splits put it in several leaves), after the cursor
+/// `after` in [`hit_order`] (`None`: from the start). No allocation; the walk visits every box
+/// the ray reaches in range.
+///
+/// With a buffer too small, `out` holds the first `out.len()` hits and [`AllHits::complete`] is
+/// false: call again with `after = Some(out[stored - 1])` for the next ones.
+///
+/// ```
+/// # #[cfg(all(feature = "triangle", feature = "alloc"))] {
+/// use octoray_core::{bvh::Bvh8, glam::Vec3, kernels::Exact, prim::{Ray, VertexTriangle}};
+/// use octoray_packet::{f32x8, tree::all_hits_ray};
+/// // Three parallel squares' lower halves at z = 1, 2, 3.
+/// let tris: Vec<_> = (1..=3)
+///     .map(|z| {
+///         let z = z as f32;
+///         VertexTriangle::new(Vec3::new(-1.0, -1.0, z), Vec3::new(1.0, -1.0, z), Vec3::new(-1.0, 1.0, z))
+///     })
+///     .collect();
+/// let bvh = Bvh8::build(&tris);
+/// let ray = Ray::new(Vec3::new(-0.5, -0.5, 0.0), Vec3::Z);
+/// let mut out = [octoray_core::hit::Hit::default(); 2];
+/// let page = all_hits_ray::<f32x8, Exact>(bvh.as_ref(), &ray, None, &mut out);
+/// assert_eq!((page.stored, page.complete), (2, false));
+/// assert_eq!([out[0].t, out[1].t], [1.0, 2.0]);
+/// let rest = all_hits_ray::<f32x8, Exact>(bvh.as_ref(), &ray, Some(out[1]), &mut out);
+/// assert_eq!((rest.stored, rest.complete, out[0].t), (1, true, 3.0));
+/// # }
+/// ```
+pub fn all_hits_ray<L: Lanes, K: Kernel<L>>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    ray: &Ray,
+    after: Option<Hit>,
+    out: &mut [Hit],
+) -> AllHits {
+    let mut collect = Collect::new(out, after);
+    occluded_ray_with::<L, K, _>(bvh, ray, &mut collect);
+    collect.found()
+}

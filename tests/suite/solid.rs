@@ -1,0 +1,379 @@
+//! Queries beyond the first hit: every hit along a ray equals brute force bit for bit (binned and
+//! spatial-split trees, every tier, buffers too small for the answer), and the crossing rule's
+//! counts, containment and winding numbers are exactly right on closed meshes built from
+//! voxels on a coarse grid (the worst case for shared edges and vertices: points and rays on
+//! faces, along edges, through vertices), against an oracle that knows the answer exactly.
+#![cfg(feature = "triangle")]
+use octoray::bvh::{BuildOptions, Bvh8, Sequential, Solid, SolidError};
+use octoray::glam::Vec3;
+use octoray::hit::Hit;
+use octoray::kernels::{Exact, ExactCrossing, Kernel, MollerTrumbore, Watertight};
+use octoray::prim::{PackedTriangle, Primitive, Ray, VertexTriangle};
+use octoray::tree::{all_hits_ray, contains, crossings_ray, hit_order, winding_number};
+use octoray::{f32x16, f32x8};
+use octoray_testkit::cases::proptest_config;
+use proptest::prelude::*;
+
+/// A set of unit voxels on an `N³` grid, placed at `origin + scale·cell`.
+#[derive(Clone, Debug)]
+struct Voxels {
+    n: i32,
+    filled: Vec<bool>,
+    origin: Vec3,
+    scale: f32,
+}
+
+impl Voxels {
+    fn at(&self, c: [i32; 3]) -> bool {
+        c.iter().all(|&x| (0..self.n).contains(&x))
+            && self.filled[((c[2] * self.n + c[1]) * self.n + c[0]) as usize]
+    }
+
+    /// The grid point `g` (integer or quarter-integer coordinates) in space, exactly (the
+    /// scale is a power of two and the origin a coarse dyadic).
+    fn point(&self, g: [f32; 3]) -> Vec3 {
+        self.origin + self.scale * Vec3::from(g)
+    }
+
+    /// Is the grid point `g`, moved by `(ε, ε², ε³)`, inside? Its cell is `floor(g)` whether or
+    /// not `g` lies on a face, an edge or a vertex.
+    fn oracle(&self, g: [f32; 3]) -> bool {
+        self.at(g.map(|x| x.floor() as i32))
+    }
+
+    /// The boundary: each face between a filled and an empty cell as two triangles (split along
+    /// the diagonal `split` picks) or four around its centre, normals out.
+    fn surface(&self, split: &[u8]) -> Vec<VertexTriangle> {
+        let mut tris = Vec::new();
+        let mut k = 0;
+        for z in 0..self.n {
+            for y in 0..self.n {
+                for x in 0..self.n {
+                    let c = [x, y, z];
+                    if !self.at(c) {
+                        continue;
+                    }
+                    for axis in 0..3 {
+                        for dir in [-1, 1] {
+                            let mut nb = c;
+                            nb[axis] += dir;
+                            if self.at(nb) {
+                                continue;
+                            }
+                            let quad = self.face(c, axis, dir);
+                            let how = split.get(k % split.len().max(1)).copied().unwrap_or(0);
+                            k += 1;
+                            self.push_quad(&mut tris, quad, how);
+                        }
+                    }
+                }
+            }
+        }
+        tris
+    }
+
+    /// The four corners of cell `c`'s face on side `dir` of `axis`, counter-clockwise seen from
+    /// outside.
+    fn face(&self, c: [i32; 3], axis: usize, dir: i32) -> [[f32; 3]; 4] {
+        let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+        let corner = |du: i32, dv: i32| {
+            let mut g = c.map(|x| x as f32);
+            g[axis] += if dir > 0 { 1.0 } else { 0.0 };
+            g[u] += du as f32;
+            g[v] += dv as f32;
+            g
+        };
+        let ccw = [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)];
+        if dir > 0 {
+            ccw
+        } else {
+            [ccw[0], ccw[3], ccw[2], ccw[1]]
+        }
+    }
+
+    fn push_quad(&self, tris: &mut Vec<VertexTriangle>, q: [[f32; 3]; 4], how: u8) {
+        let p = q.map(|g| self.point(g));
+        match how % 3 {
+            0 => {
+                tris.push(VertexTriangle::new(p[0], p[1], p[2]));
+                tris.push(VertexTriangle::new(p[0], p[2], p[3]));
+            }
+            1 => {
+                tris.push(VertexTriangle::new(p[1], p[2], p[3]));
+                tris.push(VertexTriangle::new(p[1], p[3], p[0]));
+            }
+            _ => {
+                let mid: [f32; 3] = core::array::from_fn(|i| (q[0][i] + q[2][i]) / 2.0);
+                let m = self.point(mid);
+                for i in 0..4 {
+                    tris.push(VertexTriangle::new(m, p[i], p[(i + 1) % 4]));
+                }
+            }
+        }
+    }
+}
+
+fn voxels() -> impl Strategy<Value = (Voxels, Vec<u8>)> {
+    (2i32..=5).prop_flat_map(|n| {
+        let cells = (n * n * n) as usize;
+        (
+            prop::collection::vec(prop::bool::weighted(0.45), cells),
+            prop::collection::vec(0u8..3, 1..16),
+            -8i32..8,
+            -2i32..2,
+        )
+            .prop_map(move |(filled, split, off, sc)| {
+                let scale = 2f32.powi(sc);
+                let origin = Vec3::new(off as f32 * 0.75, -off as f32 * 0.5, off as f32 * 0.25);
+                (
+                    Voxels {
+                        n,
+                        filled,
+                        origin,
+                        scale,
+                    },
+                    split,
+                )
+            })
+    })
+}
+
+/// Grid points in quarter cells around the grid: on faces, edges and vertices a quarter of the
+/// time each coordinate.
+fn grid_points(n: i32) -> impl Strategy<Value = [f32; 3]> {
+    prop::array::uniform3(-6..=4 * n + 2).prop_map(|q| q.map(|x| x as f32 / 4.0))
+}
+
+/// Both tree kinds: binned (each triangle once) and spatial splits (triangles in several
+/// leaves).
+fn trees(tris: &[VertexTriangle]) -> [Bvh8<VertexTriangle>; 2] {
+    [BuildOptions::BINNED, BuildOptions::SPATIAL]
+        .map(|o| Bvh8::try_build_options(tris, o, &Sequential).expect("build"))
+}
+
+proptest! {
+    #![proptest_config(proptest_config(96))]
+
+    #[test]
+    fn containment_and_winding_are_exact_on_voxel_solids(
+        (vox, split) in voxels(),
+        points in prop::collection::vec(grid_points(5), 64),
+    ) {
+        let tris = vox.surface(&split);
+        for bvh in trees(&tris) {
+            let solid = Solid::new(bvh.as_ref(), &tris).expect("a voxel surface is closed");
+            for g in &points {
+                let p = vox.point(*g);
+                let want = vox.oracle(*g);
+                prop_assert_eq!(contains::<f32x8>(solid, p), want, "{:?} at {:?}", vox, g);
+                prop_assert_eq!(winding_number::<f32x8>(solid, p), i32::from(want), "{:?}", g);
+            }
+        }
+    }
+
+    #[test]
+    fn crossing_parity_is_exact_for_any_direction(
+        (vox, split) in voxels(),
+        rays in prop::collection::vec((grid_points(5), prop::array::uniform3(-4i32..=4), 1u32..8), 48),
+    ) {
+        // Directions and lengths on the grid too: the segment's far end is a grid point, and
+        // the rays run along faces and edges and through vertices.
+        let tris = vox.surface(&split);
+        for bvh in trees(&tris) {
+            for (g, d, len) in &rays {
+                let dg = d.map(|x| x as f32 / 4.0);
+                if dg == [0.0; 3] {
+                    continue;
+                }
+                let end: [f32; 3] = core::array::from_fn(|i| g[i] + *len as f32 * dg[i]);
+                let dir = Vec3::from(dg) * vox.scale;
+                let ray = Ray::with_range(vox.point(*g), dir, 0.0, *len as f32);
+                let n = crossings_ray::<f32x8>(bvh.as_ref(), &ray);
+                prop_assert_eq!(n % 2 == 1, vox.oracle(*g) != vox.oracle(end), "{:?} {:?}", g, dg);
+            }
+        }
+    }
+
+    #[test]
+    fn all_hits_equal_brute_force_bit_for_bit(
+        (vox, split) in voxels(),
+        rays in prop::collection::vec((grid_points(5), prop::array::uniform3(-9i32..=9)), 24),
+        cap in 1usize..6,
+    ) {
+        let tris = vox.surface(&split);
+        let packed: Vec<PackedTriangle> = tris
+            .iter()
+            .map(|t| PackedTriangle::new(t.v0.into(), t.v1.into(), t.v2.into()))
+            .collect();
+        let [binned, spatial] = trees(&tris);
+        let [pb, ps] = [BuildOptions::BINNED, BuildOptions::SPATIAL]
+            .map(|o| Bvh8::try_build_options(&packed, o, &Sequential).expect("build"));
+        for (g, d) in &rays {
+            let dir = Vec3::from(d.map(|x| x as f32 / 7.0 + 0.01));
+            let ray = Ray::new(vox.point(*g), dir);
+            for bvh in [&binned, &spatial] {
+                check_all_hits::<f32x8, Exact>(bvh, &tris, &ray, cap)?;
+                check_all_hits::<f32x16, Watertight>(bvh, &tris, &ray, cap)?;
+                check_all_hits::<f32x8, ExactCrossing>(bvh, &tris, &ray, cap)?;
+            }
+            for bvh in [&pb, &ps] {
+                check_all_hits::<f32x8, MollerTrumbore>(bvh, &packed, &ray, cap)?;
+            }
+        }
+    }
+}
+
+/// The hits of `ray` on each primitive alone, in hit order.
+fn brute_force<L: octoray::lanes::Lanes, K: Kernel<L>>(prims: &[K::Prim], ray: &Ray) -> Vec<Hit> {
+    let mut hits: Vec<Hit> = (0..prims.len())
+        .filter_map(|i| {
+            let mut out = [None];
+            octoray::closest::<L, K>(&[*ray], &prims[i..=i], &mut out);
+            out[0].map(|h| Hit {
+                prim: i as u32,
+                ..h
+            })
+        })
+        .collect();
+    hits.sort_by(hit_order);
+    hits
+}
+
+/// All hits through the tree, a page of `cap` at a time, equal brute force's.
+fn check_all_hits<L: octoray::lanes::Lanes, K: Kernel<L>>(
+    bvh: &Bvh8<K::Prim>,
+    prims: &[K::Prim],
+    ray: &Ray,
+    cap: usize,
+) -> Result<(), TestCaseError>
+where
+    K::Prim: Primitive + std::fmt::Debug,
+{
+    let want = brute_force::<L, K>(prims, ray);
+    let mut got = Vec::new();
+    let mut page = vec![Hit::default(); cap];
+    let mut after = None;
+    loop {
+        let found = all_hits_ray::<L, K>(bvh.as_ref(), ray, after, &mut page);
+        prop_assert!(found.stored <= cap);
+        got.extend_from_slice(&page[..found.stored]);
+        if found.complete {
+            break;
+        }
+        prop_assert_eq!(found.stored, cap, "an incomplete page is full");
+        after = Some(page[cap - 1]);
+    }
+    prop_assert_eq!(got, want, "{:?}", ray);
+    Ok(())
+}
+
+#[test]
+fn an_open_or_foreign_mesh_is_refused() {
+    let vox = Voxels {
+        n: 2,
+        filled: vec![true, false, false, false, false, false, false, true],
+        origin: Vec3::ZERO,
+        scale: 1.0,
+    };
+    let tris = vox.surface(&[0]);
+    let bvh = Bvh8::build(&tris);
+    assert!(Solid::new(bvh.as_ref(), &tris).is_ok());
+    // Two cubes touching at a vertex only: closed, and each inside.
+    let solid = Solid::new(bvh.as_ref(), &tris).unwrap();
+    assert!(contains::<f32x8>(solid, Vec3::splat(0.5)));
+    assert!(contains::<f32x8>(solid, Vec3::splat(1.5)));
+    assert!(!contains::<f32x8>(solid, Vec3::new(1.5, 0.5, 0.5)));
+    // One face missing: open, and the error names an edge of the hole.
+    let open = &tris[..tris.len() - 1];
+    let open_bvh = Bvh8::build(open);
+    assert!(matches!(
+        Solid::new(open_bvh.as_ref(), open),
+        Err(SolidError::OpenEdge { .. })
+    ));
+    // A flipped face: its edges run the same way as its neighbours'.
+    let mut flipped = tris.clone();
+    let t = flipped[3];
+    flipped[3] = VertexTriangle::new(t.v0.into(), t.v2.into(), t.v1.into());
+    let fb = Bvh8::build(&flipped);
+    assert!(matches!(
+        Solid::new(fb.as_ref(), &flipped),
+        Err(SolidError::OpenEdge { .. })
+    ));
+    // Another mesh's tree, and a non-finite vertex.
+    assert!(matches!(
+        Solid::new(fb.as_ref(), &tris),
+        Err(SolidError::NotItsTree { .. })
+    ));
+    let mut bad = tris.clone();
+    bad[0].v0[0] = f32::NAN;
+    let bb = Bvh8::build(&bad);
+    assert!(matches!(
+        Solid::new(bb.as_ref(), &bad),
+        Err(SolidError::NonFinite { tri: 0 } | SolidError::NotItsTree { .. })
+    ));
+}
+
+#[test]
+fn non_finite_points_are_outside() {
+    let vox = Voxels {
+        n: 1,
+        filled: vec![true],
+        origin: Vec3::ZERO,
+        scale: 1.0,
+    };
+    let tris = vox.surface(&[2]);
+    let bvh = Bvh8::build(&tris);
+    let solid = Solid::new(bvh.as_ref(), &tris).unwrap();
+    for p in [
+        Vec3::NAN,
+        Vec3::new(0.5, f32::INFINITY, 0.5),
+        Vec3::splat(f32::NEG_INFINITY),
+    ] {
+        assert!(!contains::<f32x8>(solid, p));
+        assert_eq!(winding_number::<f32x8>(solid, p), 0);
+    }
+    assert!(contains::<f32x8>(solid, Vec3::splat(0.5)));
+}
+
+/// Long triangles crossing each other (what spatial splits cut into several leaves), and rays
+/// through them: each primitive is reported once, as brute force reports it.
+#[test]
+fn all_hits_report_a_split_primitive_once() {
+    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+    let mut next = move || {
+        seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+        ((seed >> 33) as f32 / (1u64 << 31) as f32) * 16.0 - 8.0
+    };
+    let mut p = || Vec3::new(next(), next(), next());
+    let tris: Vec<VertexTriangle> = (0..300)
+        .map(|_| {
+            let a = p();
+            VertexTriangle::new(a, p(), a + 0.2 * p())
+        })
+        .collect();
+    let spatial = Bvh8::try_build_options(&tris, BuildOptions::SPATIAL, &Sequential).unwrap();
+    let mut ids: Vec<u32> = spatial
+        .as_ref()
+        .ids()
+        .iter()
+        .copied()
+        .filter(|&i| i != u32::MAX)
+        .collect();
+    let slots = ids.len();
+    ids.sort_unstable();
+    ids.dedup();
+    assert!(
+        slots > ids.len() + 50,
+        "the spatial build split few triangles ({slots} slots)"
+    );
+    let mut hits = 0;
+    for _ in 0..200 {
+        let ray = Ray::new(p(), p());
+        for cap in [3, 64] {
+            check_all_hits::<f32x8, Exact>(&spatial, &tris, &ray, cap).unwrap();
+            check_all_hits::<f32x8, Watertight>(&spatial, &tris, &ray, cap).unwrap();
+        }
+        hits += brute_force::<f32x8, Exact>(&tris, &ray).len();
+    }
+    assert!(hits > 200, "the rays hit little ({hits})");
+}
