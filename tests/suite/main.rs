@@ -27,6 +27,8 @@ mod ingest;
 mod packet_bits;
 #[cfg(not(octoray_isa_slice))]
 mod packet_vs_textbook;
+#[cfg(not(octoray_isa_slice))]
+mod point;
 mod queries;
 #[cfg(not(octoray_isa_slice))]
 mod recommend;

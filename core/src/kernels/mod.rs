@@ -25,7 +25,7 @@ pub mod sphere;
 #[cfg(feature = "triangle")]
 pub mod triangle;
 
-use crate::lanes::Lanes;
+use crate::lanes::{Lanes, V3};
 #[cfg(feature = "sphere")]
 use crate::prim::PackedSphere;
 use crate::prim::RayLanes;
@@ -75,6 +75,124 @@ pub trait Kernel<L: Lanes> {
     #[inline(always)]
     fn intersect(ray: &RayLanes<L>, pre: &Self::Pre, prim: &Self::Prim) -> LanesHit<L> {
         Self::intersect_words(ray, pre, &One(prim))
+    }
+}
+
+/// The point of a primitive nearest to a query point, in f64 from the f32 inputs: what point
+/// queries report.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Nearest {
+    /// The nearest point.
+    pub point: [f64; 3],
+    /// Barycentric weight of `v1` at it (triangles; 0 for spheres).
+    pub u: f64,
+    /// Barycentric weight of `v2` at it (triangles; 0 for spheres).
+    pub v: f64,
+    /// Its squared distance to the query point.
+    pub dist2: f64,
+}
+
+/// Primitives a point query can measure: the nearest point of one, read from a source of words
+/// ([`Words`]: a slice element or a block slot). Triangles:
+/// [`crate::kernels::triangle::closest_point`]; spheres (their surface):
+/// [`crate::kernels::sphere::closest_point`].
+pub trait NearestPoint: Primitive {
+    /// The point of the primitive in `words` nearest to `p`.
+    fn nearest_point<W: Words>(words: &W, p: [f64; 3]) -> Nearest;
+    /// Each lane's squared distance from `p` to a box around its primitive: a lower bound on
+    /// [`NearestPoint::nearest_point`]'s, up to its f32 rounding (a few units of 2⁻²⁴, relative),
+    /// for culling a block's primitives at once.
+    fn dist2_bound<L: Lanes, W: Words>(words: &W, p: V3<L>) -> L;
+    /// The point of `self` nearest to `p` ([`NearestPoint::nearest_point`] on one primitive).
+    fn nearest(&self, p: [f64; 3]) -> Nearest {
+        Self::nearest_point(&One(self), p)
+    }
+}
+
+/// The squared distance from `p` to the box `[lo, hi]`, per lane (0 inside).
+#[inline(always)]
+fn box_dist2<L: Lanes>(lo: V3<L>, hi: V3<L>, p: V3<L>) -> L {
+    let axis = |lo: L, hi: L, x: L| (lo - x).max_or_rhs(x - hi).max_or_rhs(L::zero());
+    let (dx, dy, dz) = (
+        axis(lo.x, hi.x, p.x),
+        axis(lo.y, hi.y, p.y),
+        axis(lo.z, hi.z, p.z),
+    );
+    dx * dx + dy * dy + dz * dz
+}
+
+/// `[lo, hi]` grown by 2⁻²² of its coordinates and the smallest normal f32: room for corners
+/// rounded once (half an ulp each).
+#[cfg(any(feature = "triangle", feature = "sphere"))]
+#[inline(always)]
+fn widened<L: Lanes>(lo: V3<L>, hi: V3<L>) -> [V3<L>; 2] {
+    let grow = |x: L, s: f32| {
+        x + (x.abs() * L::splat(1.0 / 4_194_304.0) + L::splat(f32::MIN_POSITIVE)) * L::splat(s)
+    };
+    let g = |v: V3<L>, s: f32| V3::new(grow(v.x, s), grow(v.y, s), grow(v.z, s));
+    [g(lo, -1.0), g(hi, 1.0)]
+}
+
+/// Per lane, the smaller and the larger of three points' coordinates.
+#[cfg(feature = "triangle")]
+#[inline(always)]
+fn min_max3<L: Lanes>(a: V3<L>, b: V3<L>, c: V3<L>) -> [V3<L>; 2] {
+    let min = |x: L, y: L, z: L| x.min_or_rhs(y).min_or_rhs(z);
+    let max = |x: L, y: L, z: L| x.max_or_rhs(y).max_or_rhs(z);
+    [
+        V3::new(min(a.x, b.x, c.x), min(a.y, b.y, c.y), min(a.z, b.z, c.z)),
+        V3::new(max(a.x, b.x, c.x), max(a.y, b.y, c.y), max(a.z, b.z, c.z)),
+    ]
+}
+
+#[cfg(feature = "triangle")]
+impl NearestPoint for VertexTriangle {
+    #[inline]
+    fn nearest_point<W: Words>(words: &W, p: [f64; 3]) -> Nearest {
+        let v = |k: usize| [0, 1, 2].map(|i| f64::from(words.word::<f32>(k + i)));
+        crate::kernels::triangle::closest_point::nearest_on_triangle([v(0), v(3), v(6)], p)
+    }
+    #[inline(always)]
+    fn dist2_bound<L: Lanes, W: Words>(words: &W, p: V3<L>) -> L {
+        let [lo, hi] = min_max3(words.word3(0), words.word3(3), words.word3(6));
+        box_dist2(lo, hi, p)
+    }
+}
+
+#[cfg(feature = "triangle")]
+impl NearestPoint for PackedTriangle {
+    #[inline]
+    fn nearest_point<W: Words>(words: &W, p: [f64; 3]) -> Nearest {
+        // The corners as the kernels read them: `v0 + e1`, `v0 + e2`, exact in f64.
+        let w = |k: usize| [0, 1, 2].map(|i| f64::from(words.word::<f32>(k + i)));
+        let (v0, e1, e2) = (w(0), w(3), w(6));
+        let add = |e: [f64; 3]| core::array::from_fn(|k| v0[k] + e[k]);
+        crate::kernels::triangle::closest_point::nearest_on_triangle([v0, add(e1), add(e2)], p)
+    }
+    #[inline(always)]
+    fn dist2_bound<L: Lanes, W: Words>(words: &W, p: V3<L>) -> L {
+        let v0: V3<L> = words.word3(0);
+        let [lo, hi] = min_max3(v0, v0 + words.word3(3), v0 + words.word3(6));
+        let [lo, hi] = widened(lo, hi);
+        box_dist2(lo, hi, p)
+    }
+}
+
+#[cfg(feature = "sphere")]
+impl NearestPoint for PackedSphere {
+    #[inline]
+    fn nearest_point<W: Words>(words: &W, p: [f64; 3]) -> Nearest {
+        let c = [0, 1, 2].map(|i| f64::from(words.word::<f32>(i)));
+        crate::kernels::sphere::closest_point::nearest_on_sphere(c, words.word::<f32>(3), p)
+    }
+    #[inline(always)]
+    fn dist2_bound<L: Lanes, W: Words>(words: &W, p: V3<L>) -> L {
+        // A sphere that is never hit (NaN radius) has a NaN box and a bound of 0: its exact
+        // answer, infinitely far, leaves it out.
+        let c: V3<L> = words.word3(0);
+        let r = words.word::<L>(3).sqrt();
+        let [lo, hi] = widened(c - V3::new(r, r, r), c + V3::new(r, r, r));
+        box_dist2(lo, hi, p)
     }
 }
 

@@ -57,6 +57,7 @@ pub(crate) mod batch;
 pub(crate) mod epilog;
 pub(crate) mod leaf;
 pub(crate) mod packet;
+mod point;
 mod queries;
 pub(crate) mod single;
 pub(crate) mod slab;
@@ -67,6 +68,7 @@ mod solid;
 mod box_test;
 
 pub use all_hits::{all_hits_ray, hit_order, AllHits};
+pub use point::{closest_point, PointHit};
 pub use queries::{
     closest, closest_packet, closest_packet_with, closest_ray, closest_ray_with, closest_t_packet,
     closest_with, occluded, occluded_packet, occluded_packet_with, occluded_ray, occluded_ray_with,

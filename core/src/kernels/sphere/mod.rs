@@ -1,5 +1,7 @@
 //! Ray-sphere kernels, one file per algorithm: [`stable`] (the numerically stable quadratic of
-//! Ray Tracing Gems ch. 7) and [`naive`] (the textbook discriminant).
+//! Ray Tracing Gems ch. 7) and [`naive`] (the textbook discriminant); [`closest_point`] answers
+//! point queries.
 
+pub mod closest_point;
 pub mod naive;
 pub mod stable;

@@ -1,0 +1,188 @@
+//! Point queries on one tree: [`closest_point`], the primitive nearest to a point within a
+//! radius, nearest boxes first.
+
+use arrayvec::ArrayVec;
+use octoray_core::bvh::{Bvh8Ref, PAD, STACK};
+use octoray_core::glam::Vec3;
+use octoray_core::kernels::{Nearest, NearestPoint};
+use octoray_core::lanes::{Lanes, V3};
+use octoray_core::prim::{BlockLane, BlockRows, BLOCK};
+use wide::f32x8;
+
+/// The primitive nearest to a query point, and the point on it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointHit {
+    /// The nearest point (computed in f64, rounded to f32).
+    pub point: Vec3,
+    /// Its distance to the query point (rounded to f32).
+    pub dist: f32,
+    /// Barycentric weight of `v1` at the point (triangles; 0 for spheres).
+    pub u: f32,
+    /// Barycentric weight of `v2` at the point (triangles; 0 for spheres).
+    pub v: f32,
+    /// Index of the primitive in the slice the tree was built from.
+    pub prim: u32,
+}
+
+/// A stack entry: a child's reference and count (as in [`octoray_core::bvh::Bvh8Node`]) and a
+/// lower bound on its box's squared distance.
+#[derive(Clone, Copy)]
+struct Entry {
+    child: u32,
+    count: u32,
+    d2: f32,
+}
+
+/// The best so far: its answer and tree index, the squared radius before the first one.
+struct Best {
+    found: Option<(Nearest, u32)>,
+    d2: f64,
+    /// The f32 bound a box's rounded squared distance is compared with: `d2` raised by 2⁻¹⁹,
+    /// more than the box distance's rounding (a few units of 2⁻²⁴), so no box is skipped that
+    /// could hold a nearer primitive.
+    cull: f32,
+}
+
+impl Best {
+    /// Keeps `n` on primitive `id` when nearer, or as near and of a lower index (within the
+    /// radius: at most `d2` before the first).
+    fn offer(&mut self, n: Nearest, id: u32) {
+        if !n.dist2.is_finite() {
+            return;
+        }
+        let better = match self.found {
+            None => n.dist2 <= self.d2,
+            Some((b, bid)) => n.dist2 < b.dist2 || (n.dist2 == b.dist2 && id < bid),
+        };
+        if better {
+            *self = Self::new(Some((n, id)), n.dist2);
+        }
+    }
+
+    /// The best `found` at squared distance `d2`.
+    fn new(found: Option<(Nearest, u32)>, d2: f64) -> Self {
+        Self {
+            found,
+            d2,
+            cull: (d2 * (1.0 + 1.0 / 524_288.0)) as f32,
+        }
+    }
+}
+
+/// The primitive of `bvh` nearest to `point` whose distance is at most `max_dist`, the point on
+/// it, its barycentrics and distance (`None` when none is that near, for a non-finite point and
+/// for a NaN or negative `max_dist`; `f32::INFINITY` is no limit). Ties in distance go to the
+/// lower primitive index. Triangles are surfaces and spheres their surface: a point inside a
+/// sphere is at its distance from the surface.
+///
+/// # Accuracy
+/// Each primitive's distance is computed in f64 from the f32 inputs
+/// ([`octoray_core::kernels::NearestPoint`]): the nearest primitive is the exact one unless
+/// another's squared distance is within a few units of 2⁻⁵² of it, relative; the point and
+/// distance round to f32 within about an ulp of the exact ones.
+///
+/// ```
+/// # #[cfg(all(feature = "triangle", feature = "alloc"))] {
+/// use octoray_core::{bvh::Bvh8, glam::Vec3, prim::VertexTriangle};
+/// use octoray_packet::tree::closest_point;
+/// let tris = [VertexTriangle::new(Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0))];
+/// let bvh = Bvh8::build(&tris);
+/// let hit = closest_point(bvh.as_ref(), Vec3::new(0.5, 0.5, 3.0), f32::INFINITY).unwrap();
+/// assert_eq!((hit.point, hit.dist, hit.u, hit.v), (Vec3::new(0.5, 0.5, 0.0), 3.0, 0.25, 0.25));
+/// assert!(closest_point(bvh.as_ref(), Vec3::new(0.5, 0.5, 3.0), 2.5).is_none());
+/// # }
+/// ```
+pub fn closest_point<P: NearestPoint>(
+    bvh: Bvh8Ref<'_, P>,
+    point: Vec3,
+    max_dist: f32,
+) -> Option<PointHit> {
+    if !point.is_finite() || max_dist.is_nan() || max_dist < 0.0 || bvh.nodes().is_empty() {
+        return None;
+    }
+    let p = point.to_array().map(f64::from);
+    let mut best = Best::new(None, f64::from(max_dist) * f64::from(max_dist));
+    let mut stack = ArrayVec::<Entry, STACK>::new();
+    stack.push(Entry {
+        child: 0,
+        count: 0,
+        d2: 0.0,
+    });
+    while let Some(e) = stack.pop() {
+        if e.d2 > best.cull {
+            continue;
+        }
+        if e.count > 0 {
+            leaf(bvh, e, p, &mut best);
+            continue;
+        }
+        let Some(node) = bvh.nodes().get(e.child as usize) else {
+            continue;
+        };
+        // Squared distance to each slot's box (empty slots: +inf); the near ones, far first.
+        let axis = |a: usize| {
+            let (lo, hi) = (f32x8::from(node.lo[a]), f32x8::from(node.hi[a]));
+            let x = f32x8::splat(point[a]);
+            (lo - x).max(x - hi).max(f32x8::ZERO)
+        };
+        let (dx, dy, dz) = (axis(0), axis(1), axis(2));
+        let d2v = dx * dx + dy * dy + dz * dz;
+        let mut near = d2v.simd_le(f32x8::splat(best.cull)).to_bitmask();
+        if near == 0 {
+            continue;
+        }
+        // The nearest child is visited next (pushed last); the others, in slot order, wait
+        // with their distance, which is checked again when they are popped.
+        let d2 = d2v.to_array();
+        let nearest = (0..8).filter(|s| near >> s & 1 == 1).fold(8, |m, s| {
+            if m == 8 || d2[s] < d2[m] {
+                s
+            } else {
+                m
+            }
+        });
+        near &= !(1 << nearest);
+        for s in (0..8).filter(|s| near >> s & 1 == 1).chain([nearest]) {
+            // A validated tree is at most MAX_DEPTH deep, so the stack never fills.
+            let _ = stack.try_push(Entry {
+                child: node.child[s],
+                count: node.count[s],
+                d2: d2[s],
+            });
+        }
+    }
+    best.found.map(|(n, id)| {
+        let f = |x: [f64; 3]| Vec3::from_array(x.map(|c| c as f32));
+        PointHit {
+            point: f(n.point),
+            dist: Lanes::sqrt(n.dist2) as f32,
+            u: n.u as f32 + 0.0,
+            v: n.v as f32 + 0.0,
+            prim: id,
+        }
+    })
+}
+
+/// Offers the primitives of the leaf `e` to `best`: a block at a time, those whose box is near
+/// enough.
+fn leaf<P: NearestPoint>(bvh: Bvh8Ref<'_, P>, e: Entry, p: [f64; 3], best: &mut Best) {
+    let first = e.child as usize;
+    let end = (first + e.count as usize).min(bvh.ids().len());
+    let q = V3::<f32x8>::splat(p.map(|c| c as f32));
+    for start in (first..end).step_by(BLOCK) {
+        let block = bvh.block_of(start);
+        let bound = P::dist2_bound(&BlockRows::new::<P>(block, 0), q);
+        let lanes = (1u32 << (end - start).min(BLOCK)) - 1;
+        let mut near = bound.simd_le(f32x8::splat(best.cull)).to_bitmask() & lanes;
+        let bound = bound.to_array();
+        while near != 0 {
+            let i = near.trailing_zeros() as usize;
+            near &= near - 1;
+            let id = bvh.ids()[start + i];
+            if id == PAD || bound[i] > best.cull {
+                continue;
+            }
+            best.offer(P::nearest_point(&BlockLane::new::<P>(block, i), p), id);
+        }
+    }
+}
