@@ -5,10 +5,13 @@
 //! - [`scene`]: whole scenes — the scene sets and their rays, each system's built scene behind
 //!   one trait, the report's rows and targets as types, measurement apart from the markdown, the
 //!   chart and the counts report.
+//! - [`query`]: queries beyond the first hit (containment, closest point, every hit) against the
+//!   peers that have them, and the query report (`benches/queries.md`).
 #![deny(unsafe_code)] // allowed only in the Embree FFI shim (`embree`)
 #![deny(missing_docs)]
 
 pub mod kernel;
+pub mod query;
 pub mod scene;
 
 /// The CPU's model name (Linux) and the thread count, for the reports' headers.

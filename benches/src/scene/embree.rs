@@ -98,6 +98,51 @@ const FORMAT_FLOAT3: c_int = 0x9003;
 const SCENE_FLAG_ROBUST: c_int = 1 << 2;
 const GEOMETRY_INSTANCE: c_int = 121;
 const FORMAT_FLOAT3X4_COLUMN_MAJOR: c_int = 0x9234;
+const SCENE_FLAG_CONTEXT_FILTER_FUNCTION: c_int = 1 << 3;
+
+/// `RTCPointQuery`.
+#[repr(C, align(16))]
+struct RtcPointQuery {
+    p: [f32; 3],
+    time: f32,
+    radius: f32,
+}
+
+/// `RTCPointQueryContext`, zeroed (an empty instance stack at any instance level count).
+#[repr(C, align(16))]
+struct PointQueryContext([u8; 1024]);
+
+/// `RTCPointQueryFunctionArguments`.
+#[repr(C)]
+struct PointQueryArgs {
+    query: *mut RtcPointQuery,
+    user: *mut c_void,
+    prim_id: c_uint,
+    geom_id: c_uint,
+    context: *mut PointQueryContext,
+    similarity_scale: f32,
+}
+
+type PointQueryFn = unsafe extern "C" fn(*mut PointQueryArgs) -> bool;
+
+/// `RTCFilterFunctionNArguments`.
+#[repr(C)]
+struct FilterArgs {
+    valid: *mut c_int,
+    geometry_user: *mut c_void,
+    context: *mut Context,
+    ray: *mut f32,
+    hit: *mut f32,
+    n: c_uint,
+}
+
+/// An intersection context with the hits its filter collects behind it (Embree passes the
+/// context pointer through to the filter).
+#[repr(C)]
+struct CollectingContext {
+    ctx: Context,
+    hits: Vec<(f32, u32)>,
+}
 
 /// The loaded library's entry points.
 struct Api {
@@ -120,6 +165,13 @@ struct Api {
     occluded1: unsafe extern "C" fn(Scene, *mut Context, *mut RtcRay),
     intersect8: unsafe extern "C" fn(*const c_int, Scene, *mut Context, *mut RtcRayHit8),
     occluded8: unsafe extern "C" fn(*const c_int, Scene, *mut Context, *mut RtcRay8),
+    point_query: unsafe extern "C" fn(
+        Scene,
+        *mut RtcPointQuery,
+        *mut PointQueryContext,
+        PointQueryFn,
+        *mut c_void,
+    ) -> bool,
 }
 
 impl Api {
@@ -151,6 +203,7 @@ impl Api {
             occluded1: sym!(b"rtcOccluded1\0"),
             intersect8: sym!(b"rtcIntersect8\0"),
             occluded8: sym!(b"rtcOccluded8\0"),
+            point_query: sym!(b"rtcPointQuery\0"),
             _lib: lib,
         })
     }
@@ -238,7 +291,8 @@ impl EmbreeScene {
         let api = API.get_or_init(Api::load).as_ref().map_err(Clone::clone)?;
         let device = Self::device(api)?;
         // SAFETY: a device from `Self::device`.
-        let (scene, built) = unsafe { Self::mesh_scene(api, device, tris, robust) };
+        let flags = if robust { SCENE_FLAG_ROBUST } else { 0 };
+        let (scene, built) = unsafe { Self::mesh_scene(api, device, tris, flags) };
         Ok((
             Self {
                 api,
@@ -248,6 +302,22 @@ impl EmbreeScene {
             },
             built,
         ))
+    }
+
+    /// A robust scene whose intersection contexts may carry a filter: what
+    /// [`EmbreeScene::all_hits1`] needs.
+    pub fn build_collecting(tris: &[[Vec3; 3]]) -> Result<Self, String> {
+        let api = API.get_or_init(Api::load).as_ref().map_err(Clone::clone)?;
+        let device = Self::device(api)?;
+        let flags = SCENE_FLAG_ROBUST | SCENE_FLAG_CONTEXT_FILTER_FUNCTION;
+        // SAFETY: a device from `Self::device`.
+        let (scene, _) = unsafe { Self::mesh_scene(api, device, tris, flags) };
+        Ok(Self {
+            api,
+            device,
+            scene,
+            mesh: None,
+        })
     }
 
     /// A scene of `places.len()` instances (`RTC_GEOMETRY_TYPE_INSTANCE`) of one triangle mesh,
@@ -264,7 +334,8 @@ impl EmbreeScene {
         // placement with its 3×4 column-major transform (12 floats read during the call), each
         // committed, attached and released (the scene keeps it).
         unsafe {
-            let (inner, built) = Self::mesh_scene(api, device, mesh, robust);
+            let flags = if robust { SCENE_FLAG_ROBUST } else { 0 };
+            let (inner, built) = Self::mesh_scene(api, device, mesh, flags);
             let scene = (api.new_scene)(device);
             if robust {
                 (api.set_scene_flags)(scene, SCENE_FLAG_ROBUST);
@@ -314,16 +385,14 @@ impl EmbreeScene {
         api: &Api,
         device: Device,
         tris: &[[Vec3; 3]],
-        robust: bool,
+        flags: c_int,
     ) -> (Scene, Duration) {
         // SAFETY: the calls follow Embree's API: a scene, one triangle geometry whose buffers
         // Embree allocates (`rtcSetNewGeometryBuffer`, sized for `n` items with the strides
         // given) and this function fills within those sizes.
         unsafe {
             let scene = (api.new_scene)(device);
-            if robust {
-                (api.set_scene_flags)(scene, SCENE_FLAG_ROBUST);
-            }
+            (api.set_scene_flags)(scene, flags);
             let geom = (api.new_geometry)(device, GEOMETRY_TRIANGLE);
             let n = tris.len();
             let v =
@@ -424,6 +493,161 @@ impl EmbreeScene {
                 .count() as u64;
         }
         hits
+    }
+}
+
+/// The filter of [`EmbreeScene::all_hits1`]: records each valid lane's hit (its `t`, now the
+/// ray's `tfar`, and primitive) in the [`CollectingContext`] and rejects it, so the walk goes on.
+unsafe extern "C" fn collect_hit(args: *const FilterArgs) {
+    // SAFETY: Embree passes its arguments; the context is the `CollectingContext` the query was
+    // started with (its first field is the `Context`); rays and hits are SoA of `n` lanes
+    // (`RTCRayN`: `tfar` is float 8; `RTCHitN`: `primID` is word 5).
+    unsafe {
+        let a = &*args;
+        let n = a.n as usize;
+        let ctx = &mut *(a.context as *mut CollectingContext);
+        for i in 0..n {
+            if *a.valid.add(i) != 0 {
+                let t = *a.ray.add(8 * n + i);
+                let prim = *(a.hit as *const u32).add(5 * n + i);
+                ctx.hits.push((t, prim));
+                *a.valid.add(i) = 0;
+            }
+        }
+    }
+}
+
+/// What [`closest_point_query`] reads and keeps: the triangles, and the best so far.
+struct PointUser<'a> {
+    tris: &'a [[Vec3; 3]],
+    prim: u32,
+    dist: f32,
+}
+
+/// Embree's closest-point tutorial callback: the point of triangle `primID` nearest to the
+/// query (Ericson's region test in f32, as the tutorial's `closestPointTriangle`), shrinking the
+/// query radius when nearer.
+unsafe extern "C" fn closest_point_query(args: *mut PointQueryArgs) -> bool {
+    // SAFETY: Embree passes its arguments; `user` is the `PointUser` the query was started
+    // with, and `primID` indexes the triangles the scene was built from.
+    unsafe {
+        let a = &mut *args;
+        let user = &mut *(a.user as *mut PointUser<'_>);
+        let q = &mut *a.query;
+        let p = Vec3::from(q.p);
+        let Some(t) = user.tris.get(a.prim_id as usize) else {
+            return false;
+        };
+        let d = (closest_point_triangle(p, t[0], t[1], t[2]) - p).length();
+        if d < q.radius {
+            q.radius = d;
+            user.prim = a.prim_id;
+            user.dist = d;
+            return true;
+        }
+        false
+    }
+}
+
+/// Ericson's closest point on triangle `abc` to `p`, in f32 (Embree's tutorial's).
+fn closest_point_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return a + d1 / (d1 - d3) * ab;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return a + d2 / (d2 - d6) * ac;
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 {
+        return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+    }
+    let denom = 1.0 / (va + vb + vc);
+    a + ab * (vb * denom) + ac * (vc * denom)
+}
+
+impl EmbreeScene {
+    /// Every hit of each ray in range (`rtcIntersect1` with a context filter that records every
+    /// hit and rejects it, Embree's way to gather all hits), sorted by `t` with repeats of a
+    /// primitive at one `t` dropped; returns the total number of hits. Needs a scene from
+    /// [`EmbreeScene::build_collecting`].
+    pub fn all_hits1(&self, rays: &[Ray]) -> u64 {
+        let mut ctx = CollectingContext {
+            ctx: context(false),
+            hits: Vec::with_capacity(64),
+        };
+        ctx.ctx.filter = collect_hit as *const c_void;
+        let mut total = 0;
+        for r in rays {
+            ctx.hits.clear();
+            let mut rh = RtcRayHit {
+                ray: rtc_ray(r),
+                hit: RtcHit {
+                    ng: [0.0; 3],
+                    u: 0.0,
+                    v: 0.0,
+                    prim_id: INVALID_ID,
+                    geom_id: INVALID_ID,
+                    inst_id: [INVALID_ID],
+                },
+            };
+            // SAFETY: as in `closest1`; the context's filter is `collect_hit`, which reads the
+            // `CollectingContext` this context is the first field of.
+            unsafe { (self.api.intersect1)(self.scene, &mut ctx.ctx, &mut rh) };
+            ctx.hits
+                .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            ctx.hits.dedup();
+            total += ctx.hits.len() as u64;
+        }
+        total
+    }
+
+    /// The triangle nearest to each point (`rtcPointQuery` with the closest-point tutorial's
+    /// callback over `tris`, the triangles this scene was built from): its index and distance.
+    pub fn closest_points(&self, tris: &[[Vec3; 3]], points: &[Vec3], out: &mut Vec<(u32, f32)>) {
+        out.clear();
+        let mut ctx = Box::new(PointQueryContext([0; 1024]));
+        for p in points {
+            let mut q = RtcPointQuery {
+                p: p.to_array(),
+                time: 0.0,
+                radius: f32::INFINITY,
+            };
+            let mut user = PointUser {
+                tris,
+                prim: INVALID_ID,
+                dist: f32::INFINITY,
+            };
+            // SAFETY: a committed scene, an aligned query and context of Embree's layout (the
+            // zeroed context is an empty instance stack), a callback of Embree's prototype and
+            // the user data it expects, alive for the call.
+            unsafe {
+                (self.api.point_query)(
+                    self.scene,
+                    &mut q,
+                    &mut *ctx,
+                    closest_point_query,
+                    &mut user as *mut PointUser<'_> as *mut c_void,
+                )
+            };
+            out.push((user.prim, user.dist));
+        }
     }
 }
 

@@ -7,7 +7,7 @@ use octoray_core::glam::Vec3;
 use octoray_core::kernels::{Nearest, NearestPoint};
 use octoray_core::lanes::{Lanes, V3};
 use octoray_core::prim::{BlockLane, BlockRows, BLOCK};
-use wide::f32x8;
+use wide::{f32x8, u32x8};
 
 /// The primitive nearest to a query point, and the point on it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -127,20 +127,20 @@ pub fn closest_point<P: NearestPoint>(
         };
         let (dx, dy, dz) = (axis(0), axis(1), axis(2));
         let d2v = dx * dx + dy * dy + dz * dz;
-        let mut near = d2v.simd_le(f32x8::splat(best.cull)).to_bitmask();
+        let near_mask = d2v.simd_le(f32x8::splat(best.cull));
+        let mut near = near_mask.to_bitmask();
         if near == 0 {
             continue;
         }
         // The nearest child is visited next (pushed last); the others, in slot order, wait
         // with their distance, which is checked again when they are popped.
         let d2 = d2v.to_array();
-        let nearest = (0..8).filter(|s| near >> s & 1 == 1).fold(8, |m, s| {
-            if m == 8 || d2[s] < d2[m] {
-                s
-            } else {
-                m
-            }
-        });
+        // Non-negative floats order as their bits: the nearest kept slot by an integer
+        // minimum, the others set to the largest key.
+        let keep: u32x8 = bytemuck::cast(near_mask);
+        let keys = (bytemuck::cast::<_, u32x8>(d2v) & keep) | !keep;
+        let nearest = (keys.simd_eq(u32x8::splat(keys.reduce_min())).to_bitmask() & near)
+            .trailing_zeros() as usize;
         near &= !(1 << nearest);
         for s in (0..8).filter(|s| near >> s & 1 == 1).chain([nearest]) {
             // A validated tree is at most MAX_DEPTH deep, so the stack never fills.
