@@ -93,15 +93,35 @@ where
     let mut blocked = vec![false; shadow.len()];
     s.occluded::<f32x8, KT, StableSphere>(&shadow, !0, &mut blocked);
 
+    // Every hit along each camera ray (as many as the C job keeps: eight per ray on average).
+    let mut along = vec![];
+    for r in &rays {
+        let mut page = [Hit::default(); 64];
+        let mut after = None;
+        loop {
+            let found = s.all_hits_ray::<f32x8, KT, StableSphere>(r, !0, after, &mut page);
+            along.extend_from_slice(&page[..found.stored]);
+            if found.complete {
+                break;
+            }
+            after = Some(page[found.stored - 1]);
+        }
+    }
+
     let mut digest = Digest::new();
     hits.iter().for_each(|&h| digest.placed_hit(h));
     blocked.iter().for_each(|&b| digest.word(u32::from(b)));
+    along
+        .iter()
+        .take(rays.len() * 8)
+        .for_each(|&h| digest.placed_hit(Some(h)));
     let digest = digest.value();
     println!(
-        "tier {tier}: {} rays, {} hit, {} in shadow, digest 0x{digest:016x}",
+        "tier {tier}: {} rays, {} hit, {} in shadow, {} hits along them, digest 0x{digest:016x}",
         rays.len(),
         shadow.len(),
-        blocked.iter().filter(|&&b| b).count()
+        blocked.iter().filter(|&&b| b).count(),
+        along.len()
     );
 }
 

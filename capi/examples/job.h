@@ -183,6 +183,30 @@ static int run_job(uint32_t tier) {
     shadowed += blocked[k];
   }
 
+  /* Every hit along each camera ray, three at a time: the first at the closest hit's t. */
+  int along = 0;
+  static OctorayHit all[RAYS * 8];
+  for (int k = 0; k < RAYS; k++) {
+    OctorayHit page[3], last;
+    const OctorayHit *after = NULL;
+    size_t stored = 0;
+    uint8_t complete = 0;
+    int first = 1;
+    do {
+      check(octoray_all_hits1(scene, &rays[k], ~0u, after, page, 3, &stored, &complete),
+            "octoray_all_hits1");
+      for (size_t i = 0; i < stored; i++) {
+        if (first) mismatches += hits[k].prim == OCTORAY_NO_HIT || bits(page[i].t) != bits(hits[k].t);
+        first = 0;
+        if (along < RAYS * 8) all[along] = page[i];
+        along++;
+      }
+      if (stored > 0) last = page[stored - 1];
+      after = &last;
+    } while (!complete);
+    mismatches += first && hits[k].prim != OCTORAY_NO_HIT;
+  }
+
   /* Stored and loaded back: the same answers. */
   size_t len = 0;
   check(octoray_scene_store(scene, NULL, 0, &len), "octoray_scene_store");
@@ -217,8 +241,9 @@ static int run_job(uint32_t tier) {
   uint64_t digest = 0xcbf29ce484222325ull;
   for (int k = 0; k < RAYS; k++) fnv_hit(&digest, &hits[k]);
   for (int k = 0; k < n; k++) fnv_word(&digest, blocked[k]);
-  printf("tier %u: %d rays, %d hit, %d in shadow, digest 0x%016llx\n", tier, RAYS, hit_count,
-         shadowed, (unsigned long long)digest);
+  for (int k = 0; k < along && k < RAYS * 8; k++) fnv_hit(&digest, &all[k]);
+  printf("tier %u: %d rays, %d hit, %d in shadow, %d hits along them, digest 0x%016llx\n", tier,
+         RAYS, hit_count, shadowed, along, (unsigned long long)digest);
   if (mismatches != 0 || !refused) {
     fprintf(stderr, "%d mismatches between the calls; bad input refused: %d\n", mismatches, refused);
     return 1;

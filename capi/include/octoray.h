@@ -263,6 +263,25 @@ enum OctorayStatus octoray_occluded(const struct OctorayScene *scene,
                                     uint32_t mask,
                                     uint8_t *occluded);
 
+// Every hit of one ray in its range whose geometry and instance masks share a bit with `mask`,
+// nearest first (by `t`, then instance, geometry and primitive; each primitive of each
+// instance once), into `hits`: the first `capacity` hits after `*after` (null: from the
+// start). `*stored` gets how many were written and `*complete` 1 when they are all of them,
+// 0 when more follow: call again with `after` the last one written.
+//
+// # Safety
+// `scene` is a live scene not changed meanwhile; `ray` is valid for reading; `after` is null
+// or valid for reading; `hits` is valid for writing `capacity` hits (may be null when
+// `capacity` is 0); `stored` and `complete` are valid for writing.
+enum OctorayStatus octoray_all_hits1(const struct OctorayScene *scene,
+                                     const struct OctorayRay *ray,
+                                     uint32_t mask,
+                                     const struct OctorayHit *after,
+                                     struct OctorayHit *hits,
+                                     size_t capacity,
+                                     size_t *stored,
+                                     uint8_t *complete);
+
 // The closest hits of an 8-ray SoA packet (every lane traced; an empty range is a miss).
 //
 // # Safety

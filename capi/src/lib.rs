@@ -108,6 +108,19 @@ pub struct OctorayHit {
     pub inst: u32,
 }
 
+impl From<OctorayHit> for Hit {
+    fn from(h: OctorayHit) -> Self {
+        Hit {
+            t: h.t,
+            u: h.u,
+            v: h.v,
+            prim: h.prim,
+            geom: h.geom,
+            inst: h.inst,
+        }
+    }
+}
+
 impl From<Option<Hit>> for OctorayHit {
     fn from(h: Option<Hit>) -> Self {
         match h {
@@ -708,6 +721,43 @@ pub unsafe extern "C" fn octoray_occluded(
 ) -> OctorayStatus {
     // SAFETY: the same contract.
     unsafe { trace::many::<Occluded>("octoray_occluded", scene, rays, count, mask, occluded) }
+}
+
+/// Every hit of one ray in its range whose geometry and instance masks share a bit with `mask`,
+/// nearest first (by `t`, then instance, geometry and primitive; each primitive of each
+/// instance once), into `hits`: the first `capacity` hits after `*after` (null: from the
+/// start). `*stored` gets how many were written and `*complete` 1 when they are all of them,
+/// 0 when more follow: call again with `after` the last one written.
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `ray` is valid for reading; `after` is null
+/// or valid for reading; `hits` is valid for writing `capacity` hits (may be null when
+/// `capacity` is 0); `stored` and `complete` are valid for writing.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)] // the C signature
+pub unsafe extern "C" fn octoray_all_hits1(
+    scene: *const OctorayScene,
+    ray: *const OctorayRay,
+    mask: u32,
+    after: *const OctorayHit,
+    hits: *mut OctorayHit,
+    capacity: usize,
+    stored: *mut usize,
+    complete: *mut u8,
+) -> OctorayStatus {
+    // SAFETY: the same contract.
+    unsafe {
+        trace::all_hits(
+            "octoray_all_hits1",
+            scene,
+            ray,
+            mask,
+            after,
+            hits,
+            capacity,
+            (stored, complete),
+        )
+    }
 }
 
 /// The closest hits of an 8-ray SoA packet (every lane traced; an empty range is a miss).

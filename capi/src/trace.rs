@@ -2,6 +2,7 @@
 //! written once for both questions (closest hit, occlusion) and dispatched over the scene's
 //! layout and tier.
 use octoray::f32x8;
+use octoray::hit::Hit;
 use octoray::kernels::{Exact, Kernel, MollerTrumbore, StableSphere, Watertight};
 use octoray::lanes::{LaneMask, Lanes};
 use octoray::prim::{PackedSphere, PackedTriangle, Ray, RayLanes, VertexTriangle};
@@ -250,6 +251,68 @@ where
         ));
         // SAFETY: non-null and, by the contract, valid for writing.
         unsafe { put(out, a) };
+        Ok(())
+    })
+}
+
+/// Hits collected per walk by [`all_hits`]: a buffer larger than this fills in several walks.
+const ALL_HITS_PAGE: usize = 64;
+
+/// The body of the all-hits call: the first `out.len()` hits of `*ray` after `after`, in hit
+/// order; returns how many were written and whether they are all of them.
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `ray` is valid for reading; `after` is null
+/// or valid for reading; `out` is valid for writing `capacity` hits; `stored` and `complete`
+/// for writing.
+#[allow(clippy::too_many_arguments)] // the C call's parameters, passed on once
+pub(crate) unsafe fn all_hits(
+    call: &str,
+    scene: *const OctorayScene,
+    ray: *const OctorayRay,
+    mask: u32,
+    after: *const OctorayHit,
+    out: *mut OctorayHit,
+    capacity: usize,
+    (stored, complete): (*mut usize, *mut u8),
+) -> OctorayStatus {
+    run(|| {
+        // SAFETY: the caller's contract.
+        let s = unsafe { scene_ref(scene, call) }?;
+        // SAFETY: the caller's contract.
+        let r = Ray::from(&unsafe { slice(ray, 1, call, "ray") }?[0]);
+        let after = if after.is_null() {
+            None
+        } else {
+            // SAFETY: non-null and, by the contract, valid for reading.
+            Some(Hit::from(unsafe { *after }))
+        };
+        // SAFETY: the caller's contract.
+        let out = unsafe { slice_mut(out, capacity, call, "hits") }?;
+        let stored = null_check(stored, call, "stored")?;
+        let complete = null_check(complete, call, "complete")?;
+        let view = s.view(call)?;
+        let mut page = [Hit::default(); ALL_HITS_PAGE];
+        let (mut n, mut cursor) = (0, after);
+        let all = loop {
+            let room = (out.len() - n).min(ALL_HITS_PAGE);
+            let page = &mut page[..room];
+            let found = traced!(s, &view, |sc, KT| sc
+                .all_hits_ray::<f32x8, KT, StableSphere>(&r, mask, cursor, page));
+            for (o, h) in out[n..].iter_mut().zip(&page[..found.stored]) {
+                *o = OctorayHit::from(Some(*h));
+            }
+            n += found.stored;
+            if found.complete || n == out.len() {
+                break found.complete;
+            }
+            cursor = Some(page[found.stored - 1]);
+        };
+        // SAFETY: non-null and, by the contract, valid for writing.
+        unsafe {
+            put(stored, n);
+            put(complete, u8::from(all));
+        }
         Ok(())
     })
 }

@@ -284,6 +284,71 @@ fn every_failure_is_a_status_with_a_message() {
             octoray_closest1(scene, &r[0], !0, null_mut()),
             OctorayStatus::NullPointer
         );
+        // All hits: a missing output is an error; a zero capacity says whether any hit exists.
+        let (mut stored, mut complete) = (7usize, 7u8);
+        let mut page = [OctorayHit::from(None); 4];
+        assert_eq!(
+            octoray_all_hits1(
+                scene,
+                &r[0],
+                !0,
+                null(),
+                page.as_mut_ptr(),
+                4,
+                null_mut(),
+                &mut complete
+            ),
+            OctorayStatus::NullPointer
+        );
+        assert!(last_error().contains("stored"), "{}", last_error());
+        assert_eq!(
+            octoray_all_hits1(
+                scene,
+                &r[0],
+                !0,
+                null(),
+                null_mut(),
+                4,
+                &mut stored,
+                &mut complete
+            ),
+            OctorayStatus::NullPointer
+        );
+        for ray in &r {
+            octoray_closest1(scene, ray, !0, &mut h);
+            let hit = h.prim != OCTORAY_NO_HIT;
+            assert_eq!(
+                octoray_all_hits1(
+                    scene,
+                    ray,
+                    !0,
+                    null(),
+                    null_mut(),
+                    0,
+                    &mut stored,
+                    &mut complete
+                ),
+                OctorayStatus::Ok
+            );
+            assert_eq!((stored, complete), (0, u8::from(!hit)));
+            assert_eq!(
+                octoray_all_hits1(
+                    scene,
+                    ray,
+                    !0,
+                    null(),
+                    page.as_mut_ptr(),
+                    4,
+                    &mut stored,
+                    &mut complete
+                ),
+                OctorayStatus::Ok
+            );
+            assert_eq!(stored > 0, hit);
+            if hit {
+                assert_eq!(page[0].t.to_bits(), h.t.to_bits());
+            }
+        }
         assert_eq!(
             octoray_scene_store(scene, null_mut(), 0, &mut len),
             OctorayStatus::Ok
