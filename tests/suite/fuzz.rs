@@ -601,7 +601,76 @@ fn run_bvh(rng: &mut Rng) -> usize {
             }
         }
     }
+    beyond_first_hit(rng, &tree, &verts, &rays);
     rays.len()
+}
+
+/// Closest point, all hits and crossing counts on hostile geometry: closest point equals brute
+/// force bit for bit; every hit reported is finite, in range, on a primitive of the tree, and
+/// each once; paging gives what one large buffer gives.
+fn beyond_first_hit(
+    rng: &mut Rng,
+    tree: &Bvh8<VertexTriangle>,
+    verts: &[VertexTriangle],
+    rays: &[Ray],
+) {
+    use octoray::kernels::{ExactCrossing, NearestPoint};
+    use octoray::tree::{all_hits_ray, closest_point, crossings_ray};
+    for r in rays.iter().take(4) {
+        let p = if rng.below(2) == 0 {
+            r.origin
+        } else {
+            let scale = 10f32.powi(rng.below(40) as i32 - 20);
+            point(rng, Vec3::ZERO, scale)
+        };
+        let radius = [f32::INFINITY, rng.range(0.0, 4.0), f32::NAN, -1.0][rng.below(4) as usize];
+        let q = p.to_array().map(f64::from);
+        let mut want: Option<(f64, u32)> = None;
+        if p.is_finite() && radius >= 0.0 {
+            for (i, t) in verts.iter().enumerate() {
+                let d = t.nearest(q).dist2;
+                let limit = want.map_or(f64::from(radius) * f64::from(radius), |w| w.0);
+                if d.is_finite() && (d < limit || want.is_none() && d <= limit) {
+                    want = Some((d, i as u32));
+                }
+            }
+        }
+        let got = closest_point(tree.as_ref(), p, radius);
+        assert_eq!(
+            got.map(|h| h.prim),
+            want.map(|w| w.1),
+            "closest point {p:?} within {radius}: {:?} / {:?} {:?}",
+            want.map(|w| (w.0, verts[w.1 as usize])),
+            got.map(|h| (verts[h.prim as usize].nearest(q), verts[h.prim as usize])),
+            got
+        );
+        let mut big = [Hit::default(); 80];
+        let all = all_hits_ray::<f32x8, Watertight>(tree.as_ref(), r, None, &mut big);
+        assert!(
+            all.complete,
+            "{} hits on {} triangles",
+            all.stored,
+            verts.len()
+        );
+        for (k, h) in big[..all.stored].iter().enumerate() {
+            assert!((h.prim as usize) < verts.len());
+            check_hit(h, r, "all hits");
+            assert!(k == 0 || octoray::tree::hit_order(&big[k - 1], h).is_lt());
+        }
+        let (mut paged, mut page, mut after) = (vec![], [Hit::default(); 2], None);
+        loop {
+            let f = all_hits_ray::<f32x8, Watertight>(tree.as_ref(), r, after, &mut page);
+            paged.extend_from_slice(&page[..f.stored]);
+            if f.complete {
+                break;
+            }
+            after = Some(page[f.stored - 1]);
+        }
+        assert_eq!(paged, big[..all.stored].to_vec(), "paged all hits {r:?}");
+        let n = crossings_ray::<f32x8>(tree.as_ref(), r);
+        let exact = all_hits_ray::<f32x8, ExactCrossing>(tree.as_ref(), r, None, &mut big);
+        assert_eq!(n as usize, exact.stored, "crossings {r:?}");
+    }
 }
 
 /// The batch calls of the packet crate agree with the per-ray queries.
@@ -716,6 +785,24 @@ fn run_tree(rng: &mut Rng) {
                 );
                 check_hit(&h, r, "crafted tree, packet");
             }
+        }
+        // Point queries and every-hit walks on the crafted tree: indices in range, no panic,
+        // each leaf slot tested at most once per walk.
+        let h = octoray::tree::closest_point(bvh, rays[2].origin, f32::INFINITY);
+        assert!(
+            h.is_none_or(|h| (h.prim as usize) < t.prims),
+            "closest point after {done:?}"
+        );
+        let mut page = [Hit::default(); 3];
+        take_leaf_tests();
+        let f = octoray::tree::all_hits_ray::<f32x8, Counting>(bvh, &rays[3], None, &mut page);
+        assert!(take_leaf_tests() <= blocks, "all hits after {done:?}");
+        for h in &page[..f.stored] {
+            assert!((h.prim as usize) < t.prims, "all hits prim after {done:?}");
+        }
+        let _ = octoray::tree::crossings_ray::<f32x8>(bvh, &rays[4]);
+        if let Ok(solid) = octoray::bvh::Solid::new(bvh, &tris[..t.prims.min(tris.len())]) {
+            let _ = octoray::tree::contains::<f32x8>(solid, rays[5].origin);
         }
         TREES[2].fetch_add(1, Relaxed);
     }

@@ -8,7 +8,8 @@
 //!   within an ulp or so), and the squared distance is within a few units of 2⁻⁵² of the exact
 //!   one, relative.
 //! - A degenerate triangle (a segment or a point) answers its nearest point on the segments
-//!   between its vertices; never NaN for finite inputs.
+//!   between its vertices; never NaN for finite inputs. A triangle with a non-finite vertex is
+//!   infinitely far (it is never hit, and trees leave it out).
 //!
 //! # The regions
 //! With `ab = b − a`, `ac = c − a` and `d₁…d₆` the projections of `p − a`, `p − b`, `p − c` on
@@ -45,8 +46,17 @@ fn nearest(point: P, (u, v): (f64, f64), p: P) -> Nearest {
     }
 }
 
-/// The point of the triangle `[a, b, c]` nearest to `p` (see the module docs).
+/// The point of the triangle `[a, b, c]` nearest to `p` (see the module docs); infinitely far
+/// when a vertex is not finite (such a triangle is never hit, nor in a tree).
 pub(crate) fn nearest_on_triangle([a, b, c]: [P; 3], p: P) -> Nearest {
+    if ![a, b, c].iter().flatten().all(|x| x.is_finite()) {
+        return Nearest {
+            point: a,
+            u: 0.0,
+            v: 0.0,
+            dist2: f64::INFINITY,
+        };
+    }
     let (ab, ac, ap) = (sub(b, a), sub(c, a), sub(p, a));
     let (d1, d2) = (dot(ab, ap), dot(ac, ap));
     if d1 <= 0.0 && d2 <= 0.0 {
