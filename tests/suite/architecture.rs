@@ -167,8 +167,8 @@ const TREE_LAYERS: &[(&str, &[&str])] = &[
     ("batch", &["epilog", "packet", "single"]),
     ("queries", &["epilog", "leaf", "packet", "single", "batch"]),
     ("all_hits", &["queries"]),
-    ("solid", &["all_hits"]),
     ("point", &[]),
+    ("solid", &["all_hits", "point"]),
     ("box_test", &["slab"]),
 ];
 

@@ -9,7 +9,10 @@ use octoray::glam::Vec3;
 use octoray::hit::Hit;
 use octoray::kernels::{Exact, ExactCrossing, Kernel, MollerTrumbore, Watertight};
 use octoray::prim::{PackedTriangle, Primitive, Ray, VertexTriangle};
-use octoray::tree::{all_hits_ray, contains, crossings_ray, hit_order, winding_number};
+use octoray::tree::{
+    all_hits_ray, closest_point, contains, crossings_ray, hit_order, signed_distance,
+    winding_number,
+};
 use octoray::{f32x16, f32x8};
 use octoray_testkit::cases::proptest_config;
 use proptest::prelude::*;
@@ -167,6 +170,9 @@ proptest! {
                 let want = vox.oracle(*g);
                 prop_assert_eq!(contains::<f32x8>(solid, p), want, "{:?} at {:?}", vox, g);
                 prop_assert_eq!(winding_number::<f32x8>(solid, p), i32::from(want), "{:?}", g);
+                let sd = signed_distance::<f32x8>(solid, p);
+                let d = closest_point(solid.bvh(), p, f32::INFINITY).map_or(f32::INFINITY, |h| h.dist);
+                prop_assert_eq!(sd.to_bits(), if want { -d } else { d }.to_bits(), "{:?}", g);
             }
         }
     }

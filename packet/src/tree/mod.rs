@@ -77,4 +77,4 @@ pub use queries::{
 #[cfg(feature = "triangle")]
 pub use solid::crossings_ray;
 #[cfg(all(feature = "triangle", feature = "alloc"))]
-pub use solid::{contains, winding_number};
+pub use solid::{contains, signed_distance, winding_number};

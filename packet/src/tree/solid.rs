@@ -2,6 +2,8 @@
 //! [`all_hits_ray`] with the crossing rule ([`ExactCrossing`]), a page of hits at a time.
 
 use super::all_hits::all_hits_ray;
+#[cfg(feature = "alloc")]
+use super::point::closest_point;
 use octoray_core::bvh::Bvh8Ref;
 #[cfg(feature = "alloc")]
 use octoray_core::bvh::Solid;
@@ -97,4 +99,21 @@ pub fn winding_number<L: Lanes>(solid: Solid<'_>, point: Vec3) -> i32 {
 #[cfg(feature = "alloc")]
 pub fn contains<L: Lanes>(solid: Solid<'_>, point: Vec3) -> bool {
     crossings_ray::<L>(solid.bvh(), &Ray::new(point, CAST)) % 2 == 1
+}
+
+/// The signed distance from `point` to the closed mesh: the distance to its nearest point
+/// ([`closest_point`]), negative where [`contains`] says the point is inside (exact, so the sign
+/// is never wrong, also at distances below any rounding); `+0` or `−0` on the surface as
+/// [`contains`] classifies it; `+inf` for a mesh with no triangle, NaN for a non-finite point.
+#[cfg(feature = "alloc")]
+pub fn signed_distance<L: Lanes>(solid: Solid<'_>, point: Vec3) -> f32 {
+    if !point.is_finite() {
+        return f32::NAN;
+    }
+    let d = closest_point(solid.bvh(), point, f32::INFINITY).map_or(f32::INFINITY, |h| h.dist);
+    if contains::<L>(solid, point) {
+        -d
+    } else {
+        d
+    }
 }
