@@ -10,8 +10,8 @@ use octoray::hit::Hit;
 use octoray::kernels::{Exact, ExactCrossing, Kernel, MollerTrumbore, Watertight};
 use octoray::prim::{PackedTriangle, Primitive, Ray, VertexTriangle};
 use octoray::tree::{
-    all_hits_ray, closest_point, contains, crossings_ray, hit_order, signed_distance,
-    winding_number,
+    all_hits, all_hits_ray, closest_point, contains, crossings_ray, hit_order, signed_distance,
+    winding_number, AllHits,
 };
 use octoray::{f32x16, f32x8};
 use octoray_testkit::cases::proptest_config;
@@ -226,6 +226,18 @@ proptest! {
                 check_all_hits::<f32x8, MollerTrumbore>(bvh, &packed, &ray, cap)?;
             }
         }
+        // The slice call (packets where rays share an octant: here rays from one corner, and
+        // the mixed rays above) gives each ray's first page.
+        let corner = vox.point([-1.0, -1.0, -1.0]);
+        let mut all: Vec<Ray> = rays
+            .iter()
+            .map(|(g, _)| Ray::new(corner, vox.point(*g) - corner))
+            .collect();
+        all.extend(rays.iter().map(|(g, d)| Ray::new(vox.point(*g), Vec3::from(d.map(|x| x as f32 / 7.0 + 0.01)))));
+        for bvh in [&binned, &spatial] {
+            check_slice::<f32x8, Watertight>(bvh, &all, cap)?;
+            check_slice::<f32x16, ExactCrossing>(bvh, &all, cap)?;
+        }
     }
 }
 
@@ -270,6 +282,30 @@ where
         after = Some(page[cap - 1]);
     }
     prop_assert_eq!(got, want, "{:?}", ray);
+    Ok(())
+}
+
+/// `all_hits` over `rays` with `cap` slots each equals `all_hits_ray` ray by ray.
+fn check_slice<L: octoray::lanes::Lanes, K: Kernel<L>>(
+    bvh: &Bvh8<K::Prim>,
+    rays: &[Ray],
+    cap: usize,
+) -> Result<(), TestCaseError> {
+    let mut out = vec![Hit::default(); cap * rays.len()];
+    let mut found = vec![
+        AllHits {
+            stored: 9,
+            complete: false
+        };
+        rays.len()
+    ];
+    all_hits::<L, K>(bvh.as_ref(), rays, &mut out, &mut found);
+    for (i, r) in rays.iter().enumerate() {
+        let mut one = vec![Hit::default(); cap];
+        let f = all_hits_ray::<L, K>(bvh.as_ref(), r, None, &mut one);
+        prop_assert_eq!(found[i], f, "ray {}", i);
+        prop_assert_eq!(&out[i * cap..][..f.stored], &one[..f.stored], "ray {}", i);
+    }
     Ok(())
 }
 
@@ -382,4 +418,9 @@ fn all_hits_report_a_split_primitive_once() {
         hits += brute_force::<f32x8, Exact>(&tris, &ray).len();
     }
     assert!(hits > 200, "the rays hit little ({hits})");
+    // More rays than one walk's chunk, from one corner (packets) and from anywhere.
+    let corner = Vec3::splat(-9.0);
+    let mut rays: Vec<Ray> = (0..150).map(|_| Ray::new(corner, p() - corner)).collect();
+    rays.extend((0..90).map(|_| Ray::new(p(), p())));
+    check_slice::<f32x8, Exact>(&spatial, &rays, 4).unwrap();
 }

@@ -1,7 +1,7 @@
 //! Every hit along a ray, in order, into a caller's buffer: [`all_hits_ray`] and the collector
 //! the scene's query shares.
 
-use super::queries::occluded_ray_with;
+use super::queries::{occluded_ray_with, occluded_with};
 use core::cmp::Ordering;
 use octoray_core::bvh::Bvh8Ref;
 use octoray_core::hit::{Candidate, Hit, HitFilter};
@@ -29,13 +29,54 @@ pub fn hit_order(a: &Hit, b: &Hit) -> Ordering {
         .then(a.prim.cmp(&b.prim))
 }
 
+/// Inserts `h` into the sorted hits `out[..found.stored]` unless it is a repeat, at or before
+/// the cursor `after`, or past a full buffer's last hit (then `found` is incomplete).
+fn insert(out: &mut [Hit], found: &mut AllHits, after: Option<Hit>, h: Hit) {
+    if after.is_some_and(|a| hit_order(&h, &a) != Ordering::Greater) {
+        return;
+    }
+    let len = found.stored;
+    let Err(at) = out[..len].binary_search_by(|x| hit_order(x, &h)) else {
+        return;
+    };
+    if len == out.len() {
+        // Full: a later hit is left out; a nearer one takes the last one's place. A repeat of
+        // a hit left out is never nearer than the last one kept, so it stays out.
+        found.complete = false;
+        if at == len {
+            return;
+        }
+        found.stored -= 1;
+    }
+    out.copy_within(at..found.stored, at + 1);
+    out[at] = h;
+    found.stored += 1;
+}
+
+/// The hit a filter is shown.
+fn hit_of(c: &Candidate) -> Hit {
+    Hit {
+        t: c.t,
+        u: c.u,
+        v: c.v,
+        prim: c.prim,
+        geom: c.geom,
+        inst: c.inst,
+    }
+}
+
+/// No hit stored yet.
+const NONE_YET: AllHits = AllHits {
+    stored: 0,
+    complete: true,
+};
+
 /// A filter that rejects every hit and keeps the first `out.len()` distinct ones after a cursor
 /// in hit order, sorted: the walk then offers it every hit in range.
 pub(crate) struct Collect<'o> {
     out: &'o mut [Hit],
-    len: usize,
     after: Option<Hit>,
-    dropped: bool,
+    found: AllHits,
 }
 
 impl<'o> Collect<'o> {
@@ -43,57 +84,53 @@ impl<'o> Collect<'o> {
     pub fn new(out: &'o mut [Hit], after: Option<Hit>) -> Self {
         Self {
             out,
-            len: 0,
             after,
-            dropped: false,
+            found: NONE_YET,
         }
     }
 
     /// What was stored.
     pub fn found(&self) -> AllHits {
-        AllHits {
-            stored: self.len,
-            complete: !self.dropped,
-        }
-    }
-
-    /// Inserts `h` in order unless it is a repeat, at or before the cursor, or past a full
-    /// buffer's last hit (then the query is incomplete).
-    fn insert(&mut self, h: Hit) {
-        if self
-            .after
-            .is_some_and(|a| hit_order(&h, &a) != Ordering::Greater)
-        {
-            return;
-        }
-        let Err(at) = self.out[..self.len].binary_search_by(|x| hit_order(x, &h)) else {
-            return;
-        };
-        if self.len == self.out.len() {
-            // Full: a later hit is left out; a nearer one takes the last one's place. A repeat
-            // of a hit left out is never nearer than the last one kept, so it stays out.
-            self.dropped = true;
-            if at == self.len {
-                return;
-            }
-            self.len -= 1;
-        }
-        self.out.copy_within(at..self.len, at + 1);
-        self.out[at] = h;
-        self.len += 1;
+        self.found
     }
 }
 
 impl HitFilter for Collect<'_> {
     fn accept(&mut self, c: &Candidate) -> bool {
-        self.insert(Hit {
-            t: c.t,
-            u: c.u,
-            v: c.v,
-            prim: c.prim,
-            geom: c.geom,
-            inst: c.inst,
-        });
+        insert(self.out, &mut self.found, self.after, hit_of(c));
+        false
+    }
+}
+
+/// [`Collect`] for a slice of rays: ray `i`'s hits go to the `i`-th run of `out.len() /
+/// found.len()` slots, its count to `found[i]`.
+pub(crate) struct CollectEach<'o> {
+    out: &'o mut [Hit],
+    found: &'o mut [AllHits],
+    /// The index of the walk's first ray in the slice (a walk over a chunk numbers its rays
+    /// from 0).
+    pub base: usize,
+}
+
+impl<'o> CollectEach<'o> {
+    /// Empty collections; `out.len()` is a multiple of `found.len()`.
+    pub fn new(out: &'o mut [Hit], found: &'o mut [AllHits]) -> Self {
+        found.fill(NONE_YET);
+        Self {
+            out,
+            found,
+            base: 0,
+        }
+    }
+}
+
+impl HitFilter for CollectEach<'_> {
+    fn accept(&mut self, c: &Candidate) -> bool {
+        let cap = self.out.len() / self.found.len().max(1);
+        let i = self.base + c.ray as usize;
+        if let Some(found) = self.found.get_mut(i) {
+            insert(&mut self.out[i * cap..][..cap], found, None, hit_of(c));
+        }
         false
     }
 }
@@ -136,4 +173,40 @@ pub fn all_hits_ray<L: Lanes, K: Kernel<L>>(
     let mut collect = Collect::new(out, after);
     occluded_ray_with::<L, K, _>(bvh, ray, &mut collect);
     collect.found()
+}
+
+/// Every hit of each ray: ray `i`'s first `out.len() / rays.len()` hits in hit order into that
+/// run of `out` (`out[i·cap..(i + 1)·cap]`), its count and completeness into `found[i]`; as
+/// [`all_hits_ray`] ray by ray (continue a ray whose answer is incomplete with
+/// [`all_hits_ray`] and its cursor), traced as packets where neighbouring rays share a
+/// direction octant.
+///
+/// # Panics
+/// When `found.len() != rays.len()`, or `out.len()` is not a multiple of `rays.len()`.
+#[track_caller]
+pub fn all_hits<L: Lanes, K: Kernel<L>>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    rays: &[Ray],
+    out: &mut [Hit],
+    found: &mut [AllHits],
+) {
+    assert_eq!(
+        found.len(),
+        rays.len(),
+        "octoray: {} answers for {} rays",
+        found.len(),
+        rays.len()
+    );
+    assert!(
+        rays.is_empty() && out.is_empty() || !rays.is_empty() && out.len() % rays.len() == 0,
+        "octoray: {} hit slots are not a whole number per ray for {} rays",
+        out.len(),
+        rays.len()
+    );
+    let mut collect = CollectEach::new(out, found);
+    let mut occluded = [false; 64];
+    for (k, chunk) in rays.chunks(64).enumerate() {
+        collect.base = 64 * k;
+        occluded_with::<L, K, _>(bvh, chunk, &mut occluded[..chunk.len()], &mut collect);
+    }
 }

@@ -67,7 +67,7 @@ mod solid;
 #[cfg(test)]
 mod box_test;
 
-pub use all_hits::{all_hits_ray, hit_order, AllHits};
+pub use all_hits::{all_hits, all_hits_ray, hit_order, AllHits};
 pub use point::{closest_point, PointHit};
 pub use queries::{
     closest, closest_packet, closest_packet_with, closest_ray, closest_ray_with, closest_t_packet,
