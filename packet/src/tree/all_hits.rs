@@ -198,7 +198,7 @@ pub fn all_hits<L: Lanes, K: Kernel<L>>(
         rays.len()
     );
     assert!(
-        rays.is_empty() && out.is_empty() || !rays.is_empty() && out.len() % rays.len() == 0,
+        out.len().is_multiple_of(rays.len()),
         "octoray: {} hit slots are not a whole number per ray for {} rays",
         out.len(),
         rays.len()
