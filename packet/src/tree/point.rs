@@ -101,6 +101,7 @@ pub fn closest_point<P: NearestPoint>(
         return None;
     }
     let p = point.to_array().map(f64::from);
+    let q = V3::<f32x8>::splat(point.to_array());
     let mut best = Best::new(None, f64::from(max_dist) * f64::from(max_dist));
     let mut stack = ArrayVec::<Entry, STACK>::new();
     stack.push(Entry {
@@ -113,19 +114,18 @@ pub fn closest_point<P: NearestPoint>(
             continue;
         }
         if e.count > 0 {
-            leaf(bvh, e, p, &mut best);
+            leaf(bvh, e, (p, q), &mut best);
             continue;
         }
         let Some(node) = bvh.nodes().get(e.child as usize) else {
             continue;
         };
         // Squared distance to each slot's box (empty slots: +inf); the near ones, far first.
-        let axis = |a: usize| {
+        let axis = |a: usize, x: f32x8| {
             let (lo, hi) = (f32x8::from(node.lo[a]), f32x8::from(node.hi[a]));
-            let x = f32x8::splat(point[a]);
             (lo - x).max(x - hi).max(f32x8::ZERO)
         };
-        let (dx, dy, dz) = (axis(0), axis(1), axis(2));
+        let (dx, dy, dz) = (axis(0, q.x), axis(1, q.y), axis(2, q.z));
         let d2v = dx * dx + dy * dy + dz * dz;
         let near_mask = d2v.simd_le(f32x8::splat(best.cull));
         let mut near = near_mask.to_bitmask();
@@ -142,14 +142,18 @@ pub fn closest_point<P: NearestPoint>(
         let nearest = (keys.simd_eq(u32x8::splat(keys.reduce_min())).to_bitmask() & near)
             .trailing_zeros() as usize;
         near &= !(1 << nearest);
-        for s in (0..8).filter(|s| near >> s & 1 == 1).chain([nearest]) {
-            // A validated tree is at most MAX_DEPTH deep, so the stack never fills.
-            let _ = stack.try_push(Entry {
-                child: node.child[s],
-                count: node.count[s],
-                d2: d2[s],
-            });
+        let entry = |s: usize| Entry {
+            child: node.child[s],
+            count: node.count[s],
+            d2: d2[s],
+        };
+        // A validated tree is at most MAX_DEPTH deep, so the stack never fills.
+        while near != 0 {
+            let s = near.trailing_zeros() as usize;
+            near &= near - 1;
+            let _ = stack.try_push(entry(s));
         }
+        let _ = stack.try_push(entry(nearest));
     }
     best.found.map(|(n, id)| {
         let f = |x: [f64; 3]| Vec3::from_array(x.map(|c| c as f32));
@@ -165,11 +169,16 @@ pub fn closest_point<P: NearestPoint>(
 
 /// Offers the primitives of the leaf `e` to `best`: a block at a time, those whose box is near
 /// enough.
-fn leaf<P: NearestPoint>(bvh: Bvh8Ref<'_, P>, e: Entry, p: [f64; 3], best: &mut Best) {
+fn leaf<P: NearestPoint>(
+    bvh: Bvh8Ref<'_, P>,
+    e: Entry,
+    (p, q): ([f64; 3], V3<f32x8>),
+    best: &mut Best,
+) {
     let first = e.child as usize;
     let end = (first + e.count as usize).min(bvh.ids().len());
-    let q = V3::<f32x8>::splat(p.map(|c| c as f32));
-    for start in (first..end).step_by(BLOCK) {
+    let mut start = first;
+    while start < end {
         let block = bvh.block_of(start);
         let bound = P::dist2_bound(&BlockRows::new::<P>(block, 0), q);
         let lanes = (1u32 << (end - start).min(BLOCK)) - 1;
@@ -184,5 +193,6 @@ fn leaf<P: NearestPoint>(bvh: Bvh8Ref<'_, P>, e: Entry, p: [f64; 3], best: &mut 
             }
             best.offer(P::nearest_point(&BlockLane::new::<P>(block, i), p), id);
         }
+        start += BLOCK;
     }
 }
