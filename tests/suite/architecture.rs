@@ -167,7 +167,7 @@ const TREE_LAYERS: &[(&str, &[&str])] = &[
     ("batch", &["epilog", "packet", "single"]),
     ("queries", &["epilog", "leaf", "packet", "single", "batch"]),
     ("all_hits", &["queries"]),
-    ("point", &[]),
+    ("point", &["all_hits"]),
     ("solid", &["all_hits", "point"]),
     ("box_test", &["slab"]),
 ];

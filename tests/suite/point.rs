@@ -1,4 +1,4 @@
-//! Point queries: `tree::closest_point` equals brute force over the primitives (the same
+//! Point queries: `tree::closest_point` and `tree::nearest_within` (k = 1, 3, 8) equal brute force over the primitives (the same
 //! primitive, point and distance, bit for bit, ties to the lower index) on binned and
 //! spatial-split trees of triangles (both layouts) and spheres, with and without a radius; and
 //! the nearest point of one triangle is on the triangle and no farther than any point of it.
@@ -7,7 +7,7 @@ use octoray::bvh::{BuildOptions, Bvh8, Sequential};
 use octoray::glam::Vec3;
 use octoray::kernels::{Nearest, NearestPoint};
 use octoray::prim::{PackedSphere, PackedTriangle, VertexTriangle};
-use octoray::tree::{closest_point, PointHit};
+use octoray::tree::{closest_point, nearest_within, PointHit};
 use octoray_testkit::cases::proptest_config;
 use proptest::prelude::*;
 
@@ -32,6 +32,28 @@ fn brute<P: NearestPoint>(prims: &[P], p: Vec3, max_dist: f32) -> Option<PointHi
     })
 }
 
+/// Brute force: every primitive within `r`, as the tree reports it, in order of distance, then
+/// index.
+fn brute_within<P: NearestPoint>(prims: &[P], p: Vec3, r: f32) -> Vec<PointHit> {
+    let q = p.to_array().map(f64::from);
+    let mut all: Vec<PointHit> = prims
+        .iter()
+        .enumerate()
+        .filter_map(|(i, prim)| {
+            let n = prim.nearest(q);
+            (n.dist2.is_finite() && n.dist2 <= f64::from(r) * f64::from(r)).then(|| PointHit {
+                point: Vec3::from_array(n.point.map(|c| c as f32)),
+                dist: n.dist2.sqrt() as f32,
+                u: n.u as f32 + 0.0,
+                v: n.v as f32 + 0.0,
+                prim: i as u32,
+            })
+        })
+        .collect();
+    all.sort_by(|a, b| a.dist.total_cmp(&b.dist).then(a.prim.cmp(&b.prim)));
+    all
+}
+
 fn check<P: NearestPoint>(
     prims: &[P],
     points: &[Vec3],
@@ -45,6 +67,23 @@ fn check<P: NearestPoint>(
                 let got = closest_point(bvh.as_ref(), p, r);
                 prop_assert_eq!(got, brute(prims, p, r), "{:?} within {}", p, r);
                 found += got.is_some() as usize;
+                for cap in [1, 3, 8] {
+                    let want = brute_within(prims, p, r);
+                    let mut out = vec![
+                        PointHit {
+                            point: Vec3::ZERO,
+                            dist: 0.0,
+                            u: 0.0,
+                            v: 0.0,
+                            prim: 0
+                        };
+                        cap
+                    ];
+                    let f = nearest_within(bvh.as_ref(), p, r, &mut out);
+                    prop_assert_eq!(f.stored, want.len().min(cap));
+                    prop_assert_eq!(f.complete, want.len() < cap);
+                    prop_assert_eq!(&out[..f.stored], &want[..f.stored], "{:?} within {}", p, r);
+                }
             }
         }
     }

@@ -68,7 +68,7 @@ mod solid;
 mod box_test;
 
 pub use all_hits::{all_hits, all_hits_ray, hit_order, AllHits};
-pub use point::{closest_point, PointHit};
+pub use point::{closest_point, nearest_within, PointHit};
 pub use queries::{
     closest, closest_packet, closest_packet_with, closest_ray, closest_ray_with, closest_t_packet,
     closest_with, occluded, occluded_packet, occluded_packet_with, occluded_ray, occluded_ray_with,

@@ -1,6 +1,7 @@
 //! Point queries on one tree: [`closest_point`], the primitive nearest to a point within a
-//! radius, nearest boxes first.
+//! radius, and [`nearest_within`], the k nearest; nearest boxes first.
 
+use super::all_hits::AllHits;
 use arrayvec::ArrayVec;
 use octoray_core::bvh::{Bvh8Ref, PAD, STACK};
 use octoray_core::glam::Vec3;
@@ -43,7 +44,26 @@ struct Best {
     cull: f32,
 }
 
-impl Best {
+/// What a point walk gathers: offered every primitive whose box is near enough, it says how
+/// near a box must be to still matter.
+trait Sink {
+    /// The f32 bound a box's rounded squared distance is compared with (raised above the exact
+    /// bound by more than the box distance's rounding, so no box that matters is skipped).
+    fn cull(&self) -> f32;
+    /// Offers primitive `id`, at `n`.
+    fn offer(&mut self, n: Nearest, id: u32);
+}
+
+/// `d2` raised by 2⁻¹⁹, more than a box distance's rounding (a few units of 2⁻²⁴).
+fn cull_of(d2: f64) -> f32 {
+    (d2 * (1.0 + 1.0 / 524_288.0)) as f32
+}
+
+impl Sink for Best {
+    fn cull(&self) -> f32 {
+        self.cull
+    }
+
     /// Keeps `n` on primitive `id` when nearer, or as near and of a lower index (within the
     /// radius: at most `d2` before the first).
     fn offer(&mut self, n: Nearest, id: u32) {
@@ -58,13 +78,70 @@ impl Best {
             *self = Self::new(Some((n, id)), n.dist2);
         }
     }
+}
 
+impl Best {
     /// The best `found` at squared distance `d2`.
     fn new(found: Option<(Nearest, u32)>, d2: f64) -> Self {
         Self {
             found,
             d2,
-            cull: (d2 * (1.0 + 1.0 / 524_288.0)) as f32,
+            cull: cull_of(d2),
+        }
+    }
+}
+
+/// The reported form of primitive `id`'s nearest point `n`.
+fn point_hit(n: &Nearest, id: u32) -> PointHit {
+    let f = |x: [f64; 3]| Vec3::from_array(x.map(|c| c as f32));
+    PointHit {
+        point: f(n.point),
+        dist: Lanes::sqrt(n.dist2) as f32,
+        u: n.u as f32 + 0.0,
+        v: n.v as f32 + 0.0,
+        prim: id,
+    }
+}
+
+/// The nearest `out.len()` primitives within a radius, in order of their reported distance,
+/// then index.
+struct KNearest<'o> {
+    out: &'o mut [PointHit],
+    found: AllHits,
+    r2: f64,
+    cull: f32,
+}
+
+impl Sink for KNearest<'_> {
+    fn cull(&self) -> f32 {
+        self.cull
+    }
+
+    fn offer(&mut self, n: Nearest, id: u32) {
+        if !n.dist2.is_finite() || n.dist2 > self.r2 {
+            return;
+        }
+        let h = point_hit(&n, id);
+        let len = self.found.stored;
+        let order = |x: &PointHit| x.dist.total_cmp(&h.dist).then(x.prim.cmp(&h.prim));
+        let Err(at) = self.out[..len].binary_search_by(order) else {
+            return;
+        };
+        if len == self.out.len() {
+            if at == len {
+                return;
+            }
+            self.found.stored -= 1;
+        }
+        self.out.copy_within(at..self.found.stored, at + 1);
+        self.out[at] = h;
+        self.found.stored += 1;
+        if self.found.stored == self.out.len() {
+            self.found.complete = false;
+            // Full: only primitives as near as the last one kept still matter (its distance
+            // rounded; an ulp above it covers every exact distance that rounds to it).
+            let last = f64::from(self.out[self.found.stored - 1].dist.next_up());
+            self.cull = self.cull.min(cull_of(last * last));
         }
     }
 }
@@ -97,12 +174,69 @@ pub fn closest_point<P: NearestPoint>(
     point: Vec3,
     max_dist: f32,
 ) -> Option<PointHit> {
-    if !point.is_finite() || max_dist.is_nan() || max_dist < 0.0 || bvh.nodes().is_empty() {
+    if !point.is_finite() || max_dist.is_nan() || max_dist < 0.0 {
         return None;
+    }
+    let mut best = Best::new(None, f64::from(max_dist) * f64::from(max_dist));
+    walk(bvh, point, &mut best);
+    best.found.map(|(n, id)| point_hit(&n, id))
+}
+
+/// The `out.len()` primitives of `bvh` nearest to `point` within `radius` (inclusive;
+/// `f32::INFINITY`: the k nearest), as [`closest_point`] reports each, in order of `dist`, then
+/// index; each primitive once. `stored` says how many were written; `complete` is true when the
+/// buffer was not filled (they are then all those within `radius`) and false when it was (more
+/// may lie within `radius`, none nearer than the last: once the buffer is full the walk looks
+/// only as far as its last hit, which is what makes the k nearest cheap). Nothing for a
+/// non-finite point or a NaN or negative radius.
+///
+/// ```
+/// # #[cfg(all(feature = "triangle", feature = "alloc"))] {
+/// use octoray_core::{bvh::Bvh8, glam::Vec3, prim::VertexTriangle};
+/// use octoray_packet::tree::{nearest_within, PointHit};
+/// // Unit triangles at x = 0, 1, …, 9.
+/// let tris: Vec<_> = (0..10)
+///     .map(|i| {
+///         let x = i as f32;
+///         VertexTriangle::new(Vec3::new(x, 0.0, 0.0), Vec3::new(x, 1.0, 0.0), Vec3::new(x, 0.0, 1.0))
+///     })
+///     .collect();
+/// let bvh = Bvh8::build(&tris);
+/// let mut out = [PointHit { point: Vec3::ZERO, dist: 0.0, u: 0.0, v: 0.0, prim: 0 }; 3];
+/// let found = nearest_within(bvh.as_ref(), Vec3::new(4.2, 0.1, 0.1), 2.0, &mut out);
+/// assert_eq!((found.stored, found.complete), (3, false));
+/// assert_eq!(out.map(|h| h.prim), [4, 5, 3]);
+/// # }
+/// ```
+pub fn nearest_within<P: NearestPoint>(
+    bvh: Bvh8Ref<'_, P>,
+    point: Vec3,
+    radius: f32,
+    out: &mut [PointHit],
+) -> AllHits {
+    let full = out.is_empty();
+    let mut sink = KNearest {
+        out,
+        found: AllHits {
+            stored: 0,
+            complete: !full,
+        },
+        r2: f64::from(radius) * f64::from(radius),
+        cull: cull_of(f64::from(radius) * f64::from(radius)),
+    };
+    if point.is_finite() && radius >= 0.0 {
+        walk(bvh, point, &mut sink);
+    }
+    sink.found
+}
+
+/// The walk: boxes near enough for `sink`, nearest child next, every leaf's primitives offered.
+fn walk<P: NearestPoint>(bvh: Bvh8Ref<'_, P>, point: Vec3, sink: &mut impl Sink) {
+    if bvh.nodes().is_empty() {
+        return;
     }
     let p = point.to_array().map(f64::from);
     let q = V3::<f32x8>::splat(point.to_array());
-    let mut best = Best::new(None, f64::from(max_dist) * f64::from(max_dist));
     let mut stack = ArrayVec::<Entry, STACK>::new();
     stack.push(Entry {
         child: 0,
@@ -110,11 +244,11 @@ pub fn closest_point<P: NearestPoint>(
         d2: 0.0,
     });
     while let Some(e) = stack.pop() {
-        if e.d2 > best.cull {
+        if e.d2 > sink.cull() {
             continue;
         }
         if e.count > 0 {
-            leaf(bvh, e, (p, q), &mut best);
+            leaf(bvh, e, (p, q), sink);
             continue;
         }
         let Some(node) = bvh.nodes().get(e.child as usize) else {
@@ -127,7 +261,7 @@ pub fn closest_point<P: NearestPoint>(
         };
         let (dx, dy, dz) = (axis(0, q.x), axis(1, q.y), axis(2, q.z));
         let d2v = dx * dx + dy * dy + dz * dz;
-        let near_mask = d2v.simd_le(f32x8::splat(best.cull));
+        let near_mask = d2v.simd_le(f32x8::splat(sink.cull()));
         let mut near = near_mask.to_bitmask();
         if near == 0 {
             continue;
@@ -155,16 +289,6 @@ pub fn closest_point<P: NearestPoint>(
         }
         let _ = stack.try_push(entry(nearest));
     }
-    best.found.map(|(n, id)| {
-        let f = |x: [f64; 3]| Vec3::from_array(x.map(|c| c as f32));
-        PointHit {
-            point: f(n.point),
-            dist: Lanes::sqrt(n.dist2) as f32,
-            u: n.u as f32 + 0.0,
-            v: n.v as f32 + 0.0,
-            prim: id,
-        }
-    })
 }
 
 /// Offers the primitives of the leaf `e` to `best`: a block at a time, those whose box is near
@@ -173,7 +297,7 @@ fn leaf<P: NearestPoint>(
     bvh: Bvh8Ref<'_, P>,
     e: Entry,
     (p, q): ([f64; 3], V3<f32x8>),
-    best: &mut Best,
+    best: &mut impl Sink,
 ) {
     let first = e.child as usize;
     let end = (first + e.count as usize).min(bvh.ids().len());
@@ -182,13 +306,13 @@ fn leaf<P: NearestPoint>(
         let block = bvh.block_of(start);
         let bound = P::dist2_bound(&BlockRows::new::<P>(block, 0), q);
         let lanes = (1u32 << (end - start).min(BLOCK)) - 1;
-        let mut near = bound.simd_le(f32x8::splat(best.cull)).to_bitmask() & lanes;
+        let mut near = bound.simd_le(f32x8::splat(best.cull())).to_bitmask() & lanes;
         let bound = bound.to_array();
         while near != 0 {
             let i = near.trailing_zeros() as usize;
             near &= near - 1;
             let id = bvh.ids()[start + i];
-            if id == PAD || bound[i] > best.cull {
+            if id == PAD || bound[i] > best.cull() {
                 continue;
             }
             best.offer(P::nearest_point(&BlockLane::new::<P>(block, i), p), id);
