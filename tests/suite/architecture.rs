@@ -168,6 +168,7 @@ const TREE_LAYERS: &[(&str, &[&str])] = &[
     ("queries", &["epilog", "leaf", "packet", "single", "batch"]),
     ("all_hits", &["queries"]),
     ("point", &["all_hits"]),
+    ("region", &["all_hits"]),
     ("solid", &["all_hits", "point"]),
     ("box_test", &["slab"]),
 ];

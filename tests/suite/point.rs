@@ -1,13 +1,14 @@
-//! Point queries: `tree::closest_point` and `tree::nearest_within` (k = 1, 3, 8) equal brute force over the primitives (the same
+//! Point and box queries: `tree::closest_point`, `tree::nearest_within` (k = 1, 3, 8) and
+//! `tree::overlapping` (paged three at a time) equal brute force over the primitives (the same
 //! primitive, point and distance, bit for bit, ties to the lower index) on binned and
 //! spatial-split trees of triangles (both layouts) and spheres, with and without a radius; and
 //! the nearest point of one triangle is on the triangle and no farther than any point of it.
 #![cfg(all(feature = "triangle", feature = "sphere"))]
 use octoray::bvh::{BuildOptions, Bvh8, Sequential};
 use octoray::glam::Vec3;
-use octoray::kernels::{Nearest, NearestPoint};
+use octoray::kernels::{MeetsBox, Nearest, NearestPoint};
 use octoray::prim::{PackedSphere, PackedTriangle, VertexTriangle};
-use octoray::tree::{closest_point, nearest_within, PointHit};
+use octoray::tree::{closest_point, nearest_within, overlapping, PointHit};
 use octoray_testkit::cases::proptest_config;
 use proptest::prelude::*;
 
@@ -90,6 +91,46 @@ fn check<P: NearestPoint>(
     Ok(found)
 }
 
+/// `overlapping` paged three at a time equals brute force on both tree kinds; returns it.
+fn check_box<P: MeetsBox>(prims: &[P], lo: Vec3, hi: Vec3) -> Result<Vec<u32>, TestCaseError> {
+    let (l, h) = (lo.to_array().map(f64::from), hi.to_array().map(f64::from));
+    let want: Vec<u32> = (0..prims.len() as u32)
+        .filter(|&i| prims[i as usize].meets(l, h))
+        .collect();
+    for options in [BuildOptions::BINNED, BuildOptions::SPATIAL] {
+        let bvh = Bvh8::try_build_options(prims, options, &Sequential).expect("build");
+        let (mut got, mut page, mut after) = (vec![], [0u32; 3], None);
+        loop {
+            let f = overlapping(bvh.as_ref(), lo, hi, after, &mut page);
+            got.extend_from_slice(&page[..f.stored]);
+            if f.complete {
+                break;
+            }
+            after = Some(page[f.stored - 1]);
+        }
+        prop_assert_eq!(&got, &want, "{:?}..{:?}", lo, hi);
+    }
+    Ok(want)
+}
+
+/// A triangle with a vertex in the box meets it; one whose bounds miss the box does not.
+fn vertex_sanity(
+    tris: &[[Vec3; 3]],
+    lo: Vec3,
+    hi: Vec3,
+    found: &[u32],
+) -> Result<(), TestCaseError> {
+    for (i, v) in tris.iter().enumerate() {
+        let inside = v.iter().any(|&q| q.cmpge(lo).all() && q.cmple(hi).all());
+        let (bl, bh) = (v[0].min(v[1]).min(v[2]), v[0].max(v[1]).max(v[2]));
+        let apart = bl.cmpgt(hi).any() || bh.cmplt(lo).any();
+        let listed = found.contains(&(i as u32));
+        prop_assert!(!inside || listed, "vertex inside, {}", i);
+        prop_assert!(!apart || !listed, "bounds apart, {}", i);
+    }
+    Ok(())
+}
+
 fn point() -> impl Strategy<Value = Vec3> {
     prop::array::uniform3(-12.0f32..12.0).prop_map(Vec3::from_array)
 }
@@ -119,6 +160,14 @@ proptest! {
         check(&vt, &points, radius)?;
         check(&pt, &points, radius)?;
         check(&sp, &points, radius)?;
+        for (i, &p) in points.iter().enumerate().take(6) {
+            let half = Vec3::splat(radius * 0.5) * Vec3::new(1.0, 0.5 + (i % 3) as f32, 1.0);
+            let (lo, hi) = (p - half, p + half);
+            let found = check_box(&vt, lo, hi)?;
+            vertex_sanity(&tris, lo, hi, &found)?;
+            check_box(&pt, lo, hi)?;
+            check_box(&sp, lo, hi)?;
+        }
     }
 
     #[test]

@@ -109,6 +109,58 @@ pub trait NearestPoint: Primitive {
     }
 }
 
+/// Primitives a box query can test: does the primitive in `words` meet the closed box
+/// `[lo, hi]`? Triangles: [`crate::kernels::triangle::box_overlap`]; spheres: the ball (its
+/// centre's squared distance to the box at most its squared radius, in f64). A primitive that is
+/// never hit meets no box.
+pub trait MeetsBox: Primitive {
+    /// Does the primitive in `words` meet `[lo, hi]`?
+    fn meets_box<W: Words>(words: &W, lo: [f64; 3], hi: [f64; 3]) -> bool;
+    /// Does `self` meet `[lo, hi]` ([`MeetsBox::meets_box`] on one primitive)?
+    fn meets(&self, lo: [f64; 3], hi: [f64; 3]) -> bool {
+        Self::meets_box(&One(self), lo, hi)
+    }
+}
+
+#[cfg(feature = "triangle")]
+impl MeetsBox for VertexTriangle {
+    fn meets_box<W: Words>(words: &W, lo: [f64; 3], hi: [f64; 3]) -> bool {
+        let v = |k: usize| [0, 1, 2].map(|i| f64::from(words.word::<f32>(k + i)));
+        crate::kernels::triangle::box_overlap::triangle_meets_box([v(0), v(3), v(6)], lo, hi)
+    }
+}
+
+#[cfg(feature = "triangle")]
+impl MeetsBox for PackedTriangle {
+    fn meets_box<W: Words>(words: &W, lo: [f64; 3], hi: [f64; 3]) -> bool {
+        let w = |k: usize| [0, 1, 2].map(|i| f64::from(words.word::<f32>(k + i)));
+        let (v0, e1, e2) = (w(0), w(3), w(6));
+        let add = |e: [f64; 3]| core::array::from_fn(|k| v0[k] + e[k]);
+        crate::kernels::triangle::box_overlap::triangle_meets_box([v0, add(e1), add(e2)], lo, hi)
+    }
+}
+
+#[cfg(feature = "sphere")]
+impl MeetsBox for PackedSphere {
+    fn meets_box<W: Words>(words: &W, lo: [f64; 3], hi: [f64; 3]) -> bool {
+        let r2 = words.word::<f32>(3);
+        let centre_finite = (0..3).all(|k| words.word::<f32>(k).is_finite());
+        if !(r2.is_normal() && r2 > 0.0 && centre_finite)
+            || (0..3).any(|k| lo[k].partial_cmp(&hi[k]).is_none_or(|o| o.is_gt()))
+        {
+            return false;
+        }
+        let d2: f64 = (0..3)
+            .map(|k| {
+                let c = f64::from(words.word::<f32>(k));
+                let d = (lo[k] - c).max(c - hi[k]).max(0.0);
+                d * d
+            })
+            .sum();
+        d2 <= f64::from(r2)
+    }
+}
+
 /// The squared distance from `p` to the box `[lo, hi]`, per lane (0 inside).
 #[inline(always)]
 fn box_dist2<L: Lanes>(lo: V3<L>, hi: V3<L>, p: V3<L>) -> L {

@@ -59,6 +59,7 @@ pub(crate) mod leaf;
 pub(crate) mod packet;
 mod point;
 mod queries;
+mod region;
 pub(crate) mod single;
 pub(crate) mod slab;
 #[cfg(feature = "triangle")]
@@ -74,6 +75,7 @@ pub use queries::{
     closest_with, occluded, occluded_packet, occluded_packet_with, occluded_ray, occluded_ray_with,
     occluded_with,
 };
+pub use region::overlapping;
 #[cfg(feature = "triangle")]
 pub use solid::crossings_ray;
 #[cfg(all(feature = "triangle", feature = "alloc"))]
