@@ -670,6 +670,38 @@ fn beyond_first_hit(
         let n = crossings_ray::<f32x8>(tree.as_ref(), r);
         let exact = all_hits_ray::<f32x8, ExactCrossing>(tree.as_ref(), r, None, &mut big);
         assert_eq!(n as usize, exact.stored, "crossings {r:?}");
+        // The k nearest and the primitives in a box, on hostile geometry: brute force's.
+        let q = r.origin.to_array().map(f64::from);
+        let mut near = [octoray::tree::PointHit {
+            point: Vec3::ZERO,
+            dist: 0.0,
+            u: 0.0,
+            v: 0.0,
+            prim: 0,
+        }; 3];
+        let f = octoray::tree::nearest_within(tree.as_ref(), r.origin, f32::INFINITY, &mut near);
+        let mut all: Vec<(f32, u32)> = verts
+            .iter()
+            .enumerate()
+            .filter_map(|(i, t)| {
+                let d = t.nearest(q).dist2;
+                d.is_finite().then(|| (d.sqrt() as f32, i as u32))
+            })
+            .collect();
+        all.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        if r.origin.is_finite() {
+            let got: Vec<(f32, u32)> = near[..f.stored].iter().map(|h| (h.dist, h.prim)).collect();
+            assert_eq!(got, all[..all.len().min(3)].to_vec(), "k nearest {r:?}");
+        }
+        use octoray::kernels::MeetsBox;
+        let (lo, hi) = (r.origin - Vec3::splat(2.0), r.origin + Vec3::splat(2.0));
+        let mut ids = [0u32; 80];
+        let f = octoray::tree::overlapping(tree.as_ref(), lo, hi, None, &mut ids);
+        let (l, h) = (lo.to_array().map(f64::from), hi.to_array().map(f64::from));
+        let want: Vec<u32> = (0..verts.len() as u32)
+            .filter(|&i| lo.cmple(hi).all() && verts[i as usize].meets(l, h))
+            .collect();
+        assert_eq!(ids[..f.stored].to_vec(), want, "overlapping {lo:?}..{hi:?}");
     }
 }
 
@@ -801,6 +833,21 @@ fn run_tree(rng: &mut Rng) {
             assert!((h.prim as usize) < t.prims, "all hits prim after {done:?}");
         }
         let _ = octoray::tree::crossings_ray::<f32x8>(bvh, &rays[4]);
+        let mut near = [octoray::tree::closest_point(bvh, Vec3::ZERO, 1.0).unwrap_or(
+            octoray::tree::PointHit {
+                point: Vec3::ZERO,
+                dist: 0.0,
+                u: 0.0,
+                v: 0.0,
+                prim: 0,
+            },
+        ); 4];
+        let f = octoray::tree::nearest_within(bvh, rays[6].origin, 2.0, &mut near);
+        assert!(near[..f.stored].iter().all(|h| (h.prim as usize) < t.prims));
+        let mut ids = [0u32; 4];
+        let (lo, hi) = (rays[7].origin - Vec3::ONE, rays[7].origin + Vec3::ONE);
+        let f = octoray::tree::overlapping(bvh, lo, hi, None, &mut ids);
+        assert!(ids[..f.stored].iter().all(|&i| (i as usize) < t.prims));
         if let Ok(solid) = octoray::bvh::Solid::new(bvh, &tris[..t.prims.min(tris.len())]) {
             let _ = octoray::tree::contains::<f32x8>(solid, rays[5].origin);
         }
