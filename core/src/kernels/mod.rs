@@ -125,18 +125,14 @@ pub trait MeetsBox: Primitive {
 #[cfg(feature = "triangle")]
 impl MeetsBox for VertexTriangle {
     fn meets_box<W: Words>(words: &W, lo: [f64; 3], hi: [f64; 3]) -> bool {
-        let v = |k: usize| [0, 1, 2].map(|i| f64::from(words.word::<f32>(k + i)));
-        crate::kernels::triangle::box_overlap::triangle_meets_box([v(0), v(3), v(6)], lo, hi)
+        crate::kernels::triangle::box_overlap::triangle_meets_box(corners(words, false), lo, hi)
     }
 }
 
 #[cfg(feature = "triangle")]
 impl MeetsBox for PackedTriangle {
     fn meets_box<W: Words>(words: &W, lo: [f64; 3], hi: [f64; 3]) -> bool {
-        let w = |k: usize| [0, 1, 2].map(|i| f64::from(words.word::<f32>(k + i)));
-        let (v0, e1, e2) = (w(0), w(3), w(6));
-        let add = |e: [f64; 3]| core::array::from_fn(|k| v0[k] + e[k]);
-        crate::kernels::triangle::box_overlap::triangle_meets_box([v0, add(e1), add(e2)], lo, hi)
+        crate::kernels::triangle::box_overlap::triangle_meets_box(corners(words, true), lo, hi)
     }
 }
 
@@ -197,12 +193,25 @@ fn min_max3<L: Lanes>(a: V3<L>, b: V3<L>, c: V3<L>) -> [V3<L>; 2] {
     ]
 }
 
+/// The three corners of the triangle in `words`, in f64: a [`VertexTriangle`]'s vertices, or a
+/// [`PackedTriangle`]'s `v0`, `v0 + e1`, `v0 + e2` (as the kernels read them).
+#[cfg(feature = "triangle")]
+#[inline(always)]
+fn corners<W: Words>(words: &W, packed: bool) -> [[f64; 3]; 3] {
+    let w = |k: usize| [0, 1, 2].map(|i| f64::from(words.word::<f32>(k + i)));
+    let (v0, a, b) = (w(0), w(3), w(6));
+    if !packed {
+        return [v0, a, b];
+    }
+    let add = |e: [f64; 3]| core::array::from_fn(|k| v0[k] + e[k]);
+    [v0, add(a), add(b)]
+}
+
 #[cfg(feature = "triangle")]
 impl NearestPoint for VertexTriangle {
     #[inline]
     fn nearest_point<W: Words>(words: &W, p: [f64; 3]) -> Nearest {
-        let v = |k: usize| [0, 1, 2].map(|i| f64::from(words.word::<f32>(k + i)));
-        crate::kernels::triangle::closest_point::nearest_on_triangle([v(0), v(3), v(6)], p)
+        crate::kernels::triangle::closest_point::nearest_on_triangle(corners(words, false), p)
     }
     #[inline(always)]
     fn dist2_bound<L: Lanes, W: Words>(words: &W, p: V3<L>) -> L {
@@ -215,11 +224,7 @@ impl NearestPoint for VertexTriangle {
 impl NearestPoint for PackedTriangle {
     #[inline]
     fn nearest_point<W: Words>(words: &W, p: [f64; 3]) -> Nearest {
-        // The corners as the kernels read them: `v0 + e1`, `v0 + e2`, exact in f64.
-        let w = |k: usize| [0, 1, 2].map(|i| f64::from(words.word::<f32>(k + i)));
-        let (v0, e1, e2) = (w(0), w(3), w(6));
-        let add = |e: [f64; 3]| core::array::from_fn(|k| v0[k] + e[k]);
-        crate::kernels::triangle::closest_point::nearest_on_triangle([v0, add(e1), add(e2)], p)
+        crate::kernels::triangle::closest_point::nearest_on_triangle(corners(words, true), p)
     }
     #[inline(always)]
     fn dist2_bound<L: Lanes, W: Words>(words: &W, p: V3<L>) -> L {
@@ -390,14 +395,15 @@ macro_rules! sheared_kernel {
 sheared_kernel!(Watertight, false);
 sheared_kernel!(Exact, true);
 
+/// The exact tier's kernel, its hits then narrowed by the crossing rule.
 #[cfg(feature = "triangle")]
 impl<L: Lanes> Kernel<L> for ExactCrossing {
     type Prim = VertexTriangle;
-    type Pre = crate::kernels::triangle::watertight::ShearedRay<L>;
+    type Pre = <Exact as Kernel<L>>::Pre;
     const EXACT_T_MAX: bool = true;
     #[inline(always)]
     fn prepare(ray: &RayLanes<L>) -> Self::Pre {
-        crate::kernels::triangle::watertight::ShearedRay::new(ray)
+        <Exact as Kernel<L>>::prepare(ray)
     }
     #[inline(always)]
     fn intersect_lanes(
@@ -405,15 +411,12 @@ impl<L: Lanes> Kernel<L> for ExactCrossing {
         pre: &Self::Pre,
         prim: &crate::prim::VertexLanes<L>,
     ) -> LanesHit<L> {
-        let h =
-            crate::kernels::triangle::watertight::sheared_body::<L, false, true>(ray, pre, prim);
+        let h = <Exact as Kernel<L>>::intersect_lanes(ray, pre, prim);
         crate::kernels::triangle::crossing::keep_crossings(ray, prim, h)
     }
     #[inline(always)]
     fn intersect_words<W: Words>(ray: &RayLanes<L>, pre: &Self::Pre, words: &W) -> LanesHit<L> {
-        let h = crate::kernels::triangle::watertight::sheared_words::<L, false, true, W>(
-            ray, pre, words,
-        );
+        let h = <Exact as Kernel<L>>::intersect_words(ray, pre, words);
         if !crate::lanes::LaneMask::any(h.mask) {
             return h;
         }

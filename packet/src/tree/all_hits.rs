@@ -29,19 +29,21 @@ pub fn hit_order(a: &Hit, b: &Hit) -> Ordering {
         .then(a.prim.cmp(&b.prim))
 }
 
-/// Inserts `h` into the sorted hits `out[..found.stored]` unless it is a repeat, at or before
-/// the cursor `after`, or past a full buffer's last hit (then `found` is incomplete).
-fn insert(out: &mut [Hit], found: &mut AllHits, after: Option<Hit>, h: Hit) {
-    if after.is_some_and(|a| hit_order(&h, &a) != Ordering::Greater) {
-        return;
-    }
+/// Inserts `item` into the sorted `out[..found.stored]` (ordered by `order`) unless an equal one
+/// is there already or it falls past a full buffer's last (then `found` is incomplete); a
+/// nearer one in a full buffer takes the last one's place. The buffer of every paged query.
+pub(crate) fn insert_sorted<T: Copy>(
+    out: &mut [T],
+    found: &mut AllHits,
+    item: T,
+    order: impl Fn(&T, &T) -> Ordering,
+) {
     let len = found.stored;
-    let Err(at) = out[..len].binary_search_by(|x| hit_order(x, &h)) else {
+    let Err(at) = out[..len].binary_search_by(|x| order(x, &item)) else {
         return;
     };
     if len == out.len() {
-        // Full: a later hit is left out; a nearer one takes the last one's place. A repeat of
-        // a hit left out is never nearer than the last one kept, so it stays out.
+        // A repeat of an item left out is never before the last one kept, so it stays out.
         found.complete = false;
         if at == len {
             return;
@@ -49,8 +51,17 @@ fn insert(out: &mut [Hit], found: &mut AllHits, after: Option<Hit>, h: Hit) {
         found.stored -= 1;
     }
     out.copy_within(at..found.stored, at + 1);
-    out[at] = h;
+    out[at] = item;
     found.stored += 1;
+}
+
+/// Inserts `h` into the sorted hits unless it is at or before the cursor `after`
+/// ([`insert_sorted`] in hit order).
+fn insert(out: &mut [Hit], found: &mut AllHits, after: Option<Hit>, h: Hit) {
+    if after.is_some_and(|a| hit_order(&h, &a) != Ordering::Greater) {
+        return;
+    }
+    insert_sorted(out, found, h, hit_order);
 }
 
 /// The hit a filter is shown.

@@ -1,7 +1,7 @@
 //! Point queries on one tree: [`closest_point`], the primitive nearest to a point within a
 //! radius, and [`nearest_within`], the k nearest; nearest boxes first.
 
-use super::all_hits::AllHits;
+use super::all_hits::{insert_sorted, AllHits};
 use arrayvec::ArrayVec;
 use octoray_core::bvh::{Bvh8Ref, PAD, STACK};
 use octoray_core::glam::Vec3;
@@ -121,21 +121,9 @@ impl Sink for KNearest<'_> {
         if !n.dist2.is_finite() || n.dist2 > self.r2 {
             return;
         }
-        let h = point_hit(&n, id);
-        let len = self.found.stored;
-        let order = |x: &PointHit| x.dist.total_cmp(&h.dist).then(x.prim.cmp(&h.prim));
-        let Err(at) = self.out[..len].binary_search_by(order) else {
-            return;
-        };
-        if len == self.out.len() {
-            if at == len {
-                return;
-            }
-            self.found.stored -= 1;
-        }
-        self.out.copy_within(at..self.found.stored, at + 1);
-        self.out[at] = h;
-        self.found.stored += 1;
+        let order =
+            |a: &PointHit, b: &PointHit| a.dist.total_cmp(&b.dist).then(a.prim.cmp(&b.prim));
+        insert_sorted(self.out, &mut self.found, point_hit(&n, id), order);
         if self.found.stored == self.out.len() {
             self.found.complete = false;
             // Full: only primitives as near as the last one kept still matter (its distance

@@ -1,6 +1,6 @@
 //! Box queries on one tree: [`overlapping`], the primitives that meet an axis-aligned box.
 
-use super::all_hits::AllHits;
+use super::all_hits::{insert_sorted, AllHits};
 use arrayvec::ArrayVec;
 use octoray_core::bvh::{Bvh8Ref, PAD, STACK};
 use octoray_core::glam::Vec3;
@@ -59,7 +59,7 @@ pub fn overlapping<P: MeetsBox>(
                 }
                 let words = BlockLane::new::<P>(bvh.block_of(slot), slot % BLOCK);
                 if P::meets_box(&words, lo64, hi64) {
-                    insert(out, &mut found, id);
+                    insert_sorted(out, &mut found, id, u32::cmp);
                 }
             }
             continue;
@@ -82,23 +82,4 @@ pub fn overlapping<P: MeetsBox>(
         }
     }
     found
-}
-
-/// Inserts index `id` into the ascending `out[..found.stored]` unless it is there already or
-/// beyond a full buffer's last (then `found` is incomplete).
-fn insert(out: &mut [u32], found: &mut AllHits, id: u32) {
-    let len = found.stored;
-    let Err(at) = out[..len].binary_search(&id) else {
-        return;
-    };
-    if len == out.len() {
-        found.complete = false;
-        if at == len {
-            return;
-        }
-        found.stored -= 1;
-    }
-    out.copy_within(at..found.stored, at + 1);
-    out[at] = id;
-    found.stored += 1;
 }
