@@ -29,7 +29,7 @@ use crate::lanes::{Lanes, V3};
 #[cfg(feature = "sphere")]
 use crate::prim::PackedSphere;
 use crate::prim::RayLanes;
-use crate::prim::{One, Primitive, Words};
+use crate::prim::{Affine64, One, Primitive, Words};
 
 use crate::hit::LanesHit;
 #[cfg(feature = "triangle")]
@@ -103,9 +103,20 @@ pub trait NearestPoint: Primitive {
     /// [`NearestPoint::nearest_point`]'s, up to its f32 rounding (a few units of 2⁻²⁴, relative),
     /// for culling a block's primitives at once.
     fn dist2_bound<L: Lanes, W: Words>(words: &W, p: V3<L>) -> L;
+    /// The point nearest to `p` of the primitive in `words` placed by `map` (object → world:
+    /// an instance's primitive measured in world space). Triangles: the corners mapped, then
+    /// [`NearestPoint::nearest_point`]'s test (plain f64 from there: a few units of 2⁻⁵² of the
+    /// mapped triangle's extent); spheres: an ellipsoid
+    /// ([`crate::kernels::sphere::closest_point`]).
+    fn nearest_point_mapped<W: Words>(words: &W, map: &Affine64, p: [f64; 3]) -> Nearest;
     /// The point of `self` nearest to `p` ([`NearestPoint::nearest_point`] on one primitive).
     fn nearest(&self, p: [f64; 3]) -> Nearest {
         Self::nearest_point(&One(self), p)
+    }
+    /// The point of `self` placed by `map` nearest to `p`
+    /// ([`NearestPoint::nearest_point_mapped`] on one primitive).
+    fn nearest_mapped(&self, map: &Affine64, p: [f64; 3]) -> Nearest {
+        Self::nearest_point_mapped(&One(self), map, p)
     }
 }
 
@@ -213,6 +224,11 @@ impl NearestPoint for VertexTriangle {
     fn nearest_point<W: Words>(words: &W, p: [f64; 3]) -> Nearest {
         crate::kernels::triangle::closest_point::nearest_on_triangle(corners(words, false), p)
     }
+    #[inline]
+    fn nearest_point_mapped<W: Words>(words: &W, map: &Affine64, p: [f64; 3]) -> Nearest {
+        let c = corners(words, false).map(|x| map.apply(x));
+        crate::kernels::triangle::closest_point::nearest_on_triangle(c, p)
+    }
     #[inline(always)]
     fn dist2_bound<L: Lanes, W: Words>(words: &W, p: V3<L>) -> L {
         let [lo, hi] = min_max3(words.word3(0), words.word3(3), words.word3(6));
@@ -225,6 +241,11 @@ impl NearestPoint for PackedTriangle {
     #[inline]
     fn nearest_point<W: Words>(words: &W, p: [f64; 3]) -> Nearest {
         crate::kernels::triangle::closest_point::nearest_on_triangle(corners(words, true), p)
+    }
+    #[inline]
+    fn nearest_point_mapped<W: Words>(words: &W, map: &Affine64, p: [f64; 3]) -> Nearest {
+        let c = corners(words, true).map(|x| map.apply(x));
+        crate::kernels::triangle::closest_point::nearest_on_triangle(c, p)
     }
     #[inline(always)]
     fn dist2_bound<L: Lanes, W: Words>(words: &W, p: V3<L>) -> L {
@@ -241,6 +262,12 @@ impl NearestPoint for PackedSphere {
     fn nearest_point<W: Words>(words: &W, p: [f64; 3]) -> Nearest {
         let c = [0, 1, 2].map(|i| f64::from(words.word::<f32>(i)));
         crate::kernels::sphere::closest_point::nearest_on_sphere(c, words.word::<f32>(3), p)
+    }
+    #[inline]
+    fn nearest_point_mapped<W: Words>(words: &W, map: &Affine64, p: [f64; 3]) -> Nearest {
+        let c = [0, 1, 2].map(|i| f64::from(words.word::<f32>(i)));
+        let r2 = words.word::<f32>(3);
+        crate::kernels::sphere::closest_point::nearest_on_mapped_sphere(c, r2, map, p)
     }
     #[inline(always)]
     fn dist2_bound<L: Lanes, W: Words>(words: &W, p: V3<L>) -> L {

@@ -11,12 +11,15 @@
 //! to hold the exact sums). A primitive with a non-finite coordinate has no bounds: no kernel can
 //! hit it, and the BVH builder leaves it out.
 
+mod affine;
 mod ray;
 #[cfg(feature = "sphere")]
 mod sphere;
 #[cfg(feature = "triangle")]
 mod triangle;
 
+pub use affine::Affine64;
+pub(crate) use affine::{invert3, symmetric_eigen};
 pub use ray::{Ray, RayLanes};
 #[cfg(feature = "sphere")]
 pub use sphere::{PackedSphere, Sphere, SphereLanes};

@@ -2,7 +2,7 @@
 //! the bounds that keep the top level's box tests conservative.
 
 use crate::bvh::SLACK;
-use crate::prim::{Aabb, Ray};
+use crate::prim::{invert3 as inverse, Aabb, Affine64, Ray};
 use glam::{Affine3A, Vec3};
 
 /// Unit roundoff of f32, 2⁻²⁴.
@@ -93,6 +93,15 @@ impl Transform {
             dir: map(ray.dir, 0.0),
             t_min: ray.t_min,
             t_max: ray.t_max,
+        }
+    }
+
+    /// The map in f64 (the f32 entries, exactly).
+    pub fn to_f64(&self) -> Affine64 {
+        let r = self.rows.map(|row| row.map(f64::from));
+        Affine64 {
+            m: r.map(|row| [row[0], row[1], row[2]]),
+            t: r.map(|row| row[3]),
         }
     }
 
@@ -198,27 +207,4 @@ impl Transform {
         };
         out.is_finite().then_some(out)
     }
-}
-
-/// The inverse of a 3×3 matrix by cofactors in f64 and `‖a‖∞·‖a⁻¹‖∞`; `None` when the
-/// determinant is zero or anything is not finite.
-fn inverse(a: &[[f64; 3]; 3]) -> Option<([[f64; 3]; 3], f64)> {
-    let cof = |i: usize, j: usize| {
-        let (r0, r1) = ((i + 1) % 3, (i + 2) % 3);
-        let (c0, c1) = ((j + 1) % 3, (j + 2) % 3);
-        a[r0][c0] * a[r1][c1] - a[r0][c1] * a[r1][c0]
-    };
-    let det = a[0][0] * cof(0, 0) + a[0][1] * cof(0, 1) + a[0][2] * cof(0, 2);
-    if det == 0.0 || !det.is_finite() {
-        return None;
-    }
-    // inv[i][j] = cofactor(j, i) / det.
-    let inv: [[f64; 3]; 3] = core::array::from_fn(|i| core::array::from_fn(|j| cof(j, i) / det));
-    let norm = |m: &[[f64; 3]; 3]| {
-        m.iter()
-            .map(|r| r.iter().map(|x| x.abs()).sum::<f64>())
-            .fold(0.0, f64::max)
-    };
-    let cond = norm(a) * norm(&inv);
-    (cond.is_finite() && inv.iter().flatten().all(|x| x.is_finite())).then_some((inv, cond))
 }
