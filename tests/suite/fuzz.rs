@@ -672,13 +672,7 @@ fn beyond_first_hit(
         assert_eq!(n as usize, exact.stored, "crossings {r:?}");
         // The k nearest and the primitives in a box, on hostile geometry: brute force's.
         let q = r.origin.to_array().map(f64::from);
-        let mut near = [octoray::tree::PointHit {
-            point: Vec3::ZERO,
-            dist: 0.0,
-            u: 0.0,
-            v: 0.0,
-            prim: 0,
-        }; 3];
+        let mut near = [octoray::tree::PointHit::default(); 3];
         let f = octoray::tree::nearest_within(tree.as_ref(), r.origin, f32::INFINITY, &mut near);
         let mut all: Vec<(f32, u32)> = verts
             .iter()
@@ -833,15 +827,8 @@ fn run_tree(rng: &mut Rng) {
             assert!((h.prim as usize) < t.prims, "all hits prim after {done:?}");
         }
         let _ = octoray::tree::crossings_ray::<f32x8>(bvh, &rays[4]);
-        let mut near = [octoray::tree::closest_point(bvh, Vec3::ZERO, 1.0).unwrap_or(
-            octoray::tree::PointHit {
-                point: Vec3::ZERO,
-                dist: 0.0,
-                u: 0.0,
-                v: 0.0,
-                prim: 0,
-            },
-        ); 4];
+        let mut near = [octoray::tree::closest_point(bvh, Vec3::ZERO, 1.0)
+            .unwrap_or(octoray::tree::PointHit::default()); 4];
         let f = octoray::tree::nearest_within(bvh, rays[6].origin, 2.0, &mut near);
         assert!(near[..f.stored].iter().all(|h| (h.prim as usize) < t.prims));
         let mut ids = [0u32; 4];

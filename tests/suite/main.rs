@@ -35,6 +35,8 @@ mod recommend;
 #[cfg(not(octoray_isa_slice))]
 mod scene;
 #[cfg(not(octoray_isa_slice))]
+mod scene_points;
+#[cfg(not(octoray_isa_slice))]
 mod solid;
 #[cfg(not(octoray_isa_slice))]
 mod untrusted_scenes;

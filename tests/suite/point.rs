@@ -30,6 +30,7 @@ fn brute<P: NearestPoint>(prims: &[P], p: Vec3, max_dist: f32) -> Option<PointHi
         u: n.u as f32 + 0.0,
         v: n.v as f32 + 0.0,
         prim,
+        ..PointHit::default()
     })
 }
 
@@ -48,6 +49,7 @@ fn brute_within<P: NearestPoint>(prims: &[P], p: Vec3, r: f32) -> Vec<PointHit> 
                 u: n.u as f32 + 0.0,
                 v: n.v as f32 + 0.0,
                 prim: i as u32,
+                ..PointHit::default()
             })
         })
         .collect();
@@ -70,16 +72,7 @@ fn check<P: NearestPoint>(
                 found += got.is_some() as usize;
                 for cap in [1, 3, 8] {
                     let want = brute_within(prims, p, r);
-                    let mut out = vec![
-                        PointHit {
-                            point: Vec3::ZERO,
-                            dist: 0.0,
-                            u: 0.0,
-                            v: 0.0,
-                            prim: 0
-                        };
-                        cap
-                    ];
+                    let mut out = vec![PointHit::default(); cap];
                     let f = nearest_within(bvh.as_ref(), p, r, &mut out);
                     prop_assert_eq!(f.stored, want.len().min(cap));
                     prop_assert_eq!(f.complete, want.len() < cap);

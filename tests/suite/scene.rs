@@ -25,14 +25,14 @@ use wide::f64x4;
 
 /// One geometry of a test world.
 #[derive(Clone)]
-enum Geom<T> {
+pub(crate) enum Geom<T> {
     Tris(Vec<T>),
     Spheres(Vec<PackedSphere>),
 }
 
 /// What a placement places.
 #[derive(Clone)]
-enum Target {
+pub(crate) enum Target {
     /// A set of geometries (sorted, one kind).
     Geoms(Vec<u32>),
     /// A group (of the world's list).
@@ -41,24 +41,24 @@ enum Target {
 
 /// A placement of a set of geometries or a group.
 #[derive(Clone)]
-struct Place {
-    target: Target,
-    transform: Transform,
-    mask: u32,
+pub(crate) struct Place {
+    pub target: Target,
+    pub transform: Transform,
+    pub mask: u32,
 }
 
 /// A test world: geometries (with masks), groups (each holding earlier groups), the world's
 /// instances, and the scene built from them; brute force drops the hits of instance path
 /// `banned` (what a filter rejecting it leaves).
-struct World<T> {
-    geoms: Vec<(Geom<T>, u32)>,
-    groups: Vec<Vec<Place>>,
-    insts: Vec<Place>,
+pub(crate) struct World<T> {
+    pub geoms: Vec<(Geom<T>, u32)>,
+    pub groups: Vec<Vec<Place>>,
+    pub insts: Vec<Place>,
     banned: Option<u32>,
 }
 
 impl<T: Primitive + Sync> World<T> {
-    fn scene(&self) -> Scene<T, PackedSphere> {
+    pub(crate) fn scene(&self) -> Scene<T, PackedSphere> {
         self.scene_with(BuildOptions::BINNED)
     }
 
@@ -422,7 +422,10 @@ fn mesh(rng: &mut Rng, s: f32) -> Vec<[Vec3; 3]> {
 }
 
 /// A random world (triangles packed by `pack`), and rays aimed at its instances' world points.
-fn world<T: Primitive + Sync>(seed: u64, pack: fn(&[[Vec3; 3]]) -> Vec<T>) -> (World<T>, Vec<Ray>) {
+pub(crate) fn world<T: Primitive + Sync>(
+    seed: u64,
+    pack: fn(&[[Vec3; 3]]) -> Vec<T>,
+) -> (World<T>, Vec<Ray>) {
     let mut rng = Rng(seed);
     let s = 10f32.powf(rng.range(-2.0, 2.0));
     let n_geoms = 1 + rng.below(5) as usize;
@@ -611,7 +614,7 @@ fn inverse_affine(t: &Transform) -> Option<Affine3A> {
 
 const MASKS: [u32; 3] = [u32::MAX, 1, 6];
 
-fn pack_vertex(t: &[[Vec3; 3]]) -> Vec<VertexTriangle> {
+pub(crate) fn pack_vertex(t: &[[Vec3; 3]]) -> Vec<VertexTriangle> {
     t.iter()
         .map(|t| VertexTriangle::new(t[0], t[1], t[2]))
         .collect()
@@ -994,6 +997,14 @@ fn stored_scenes_validate_and_corrupted_ones_never_panic() {
                             assert!(h.t.is_finite());
                         }
                         r.occluded_ray::<f32x8, Watertight, StableSphere>(ray, !0);
+                        // Point queries: in range, a finite distance.
+                        if let Some(h) = r.closest_point(ray.origin, f32::INFINITY, !0) {
+                            assert!(r.instance_path(h.inst).is_some());
+                            assert!(h.geom < r.geometries().len() as u32);
+                            assert!(h.dist.is_finite() && h.dist >= 0.0);
+                        }
+                        let mut near = [octoray::tree::PointHit::default(); 3];
+                        r.nearest_within(ray.origin, 1.0, !0, &mut near);
                     }
                     let p = RayLanes::<f32x8>::load(&rays[..8]);
                     r.closest_packet::<f32x8, Watertight, StableSphere>(&p, !0);

@@ -1,24 +1,29 @@
 //! The scene's walks: the top-level tree over instances, whose leaves carry the ray into each
 //! instance's object space and walk its geometry's tree ([`Instances`], a [`Leaf`]).
 
+use super::enter::{enter, Entered, Geometries};
 use super::masks::{check_masks, RayMasks};
+use super::points::scene_points;
 use crate::tree::all_hits::{AllHits, Collect};
 use crate::tree::batch::{closest_slice, occluded_slice};
 use crate::tree::epilog::UNPLACED;
 use crate::tree::epilog::{bound, Best, PacketBest};
 use crate::tree::leaf::{Leaf, Members};
 use crate::tree::packet::{packet_result, packet_walk, run_packet};
+use crate::tree::point::{Best as PointBest, KNearest, PointHit};
 use crate::tree::single::run_single;
 use crate::tree::single::trace_single;
 use crate::tree::slab::BoxRay;
 use arrayvec::ArrayVec;
 use octoray_core::bvh::Bvh8Ref;
+use octoray_core::glam::Vec3;
 use octoray_core::hit::{AcceptAll, Hit, HitFilter};
 use octoray_core::kernels::Kernel;
+use octoray_core::kernels::NearestPoint;
 use octoray_core::lanes::{LaneMask, Lanes, MAX_LANES};
 use octoray_core::prim::{Ray, RayLanes};
 use octoray_core::query::ClosestHit;
-use octoray_core::scene::{Instance, Level, SceneRef, TreeRef};
+use octoray_core::scene::{Instance, Level, SceneRef};
 use wide::f32x8;
 
 /// A level's leaves (the world's top-level tree, or a group's): its instances visited under
@@ -29,20 +34,6 @@ struct Instances<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> {
     level: Level<'a>,
     mask: u32,
     path: u32,
-}
-
-/// A tree of geometries, by kind.
-enum Geometries<'a, T, S> {
-    Triangles(Bvh8Ref<'a, T>),
-    Spheres(Bvh8Ref<'a, S>),
-}
-
-/// What a ray meets on entering an instance its masks admit.
-enum Entered<'a, T, S> {
-    /// A tree of geometries, with what the leaves need to name each hit.
-    Tree(Geometries<'a, T, S>, (u32, u32, Members<'a>)),
-    /// A group, with the mask and first path below it.
-    Group(Level<'a>, u32, u32),
 }
 
 impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS> {
@@ -56,50 +47,11 @@ impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS
         }
     }
 
-    /// The instance and what it places, when the masks admit the query: the instance's (and a
-    /// single geometry's, or a group's) before the tree is entered; in a tree of several
-    /// geometries, each geometry's at its hits.
+    /// Instance `inst` under this level's mask and path ([`enter`]).
     #[inline(always)]
     #[allow(clippy::type_complexity)]
     fn enter(&self, inst: u32) -> Option<(&'a Instance, Entered<'a, KT::Prim, KS::Prim>)> {
-        let (i, tree) = self.scene.instance_tree(inst)?;
-        let mask = i.mask & self.mask;
-        let path = self.path.wrapping_add(i.path);
-        let (tree, members) = match tree {
-            TreeRef::Triangles(b, m) => (Geometries::Triangles(b), m),
-            TreeRef::Spheres(b, m) => (Geometries::Spheres(b), m),
-            TreeRef::Instances(level) => {
-                return (level.mask & mask != 0).then_some((i, Entered::Group(level, mask, path)));
-            }
-        };
-        let geoms = self.scene.geometries();
-        let place = if let [one] = members {
-            let g = geoms.get(one.geom as usize)?;
-            if g.mask & mask == 0 {
-                return None;
-            }
-            (one.geom, path, Members::ONE)
-        } else {
-            if mask == 0 {
-                return None;
-            }
-            let all_admitted = self
-                .scene
-                .trees()
-                .get(i.tree as usize)
-                .is_some_and(|t| t.mask() & mask != 0);
-            (
-                0,
-                path,
-                Members {
-                    members,
-                    geoms,
-                    mask,
-                    all_admitted,
-                },
-            )
-        };
-        Some((i, Entered::Tree(tree, place)))
+        enter(self.scene, self.mask, self.path, inst)
     }
 
     /// The level below a group instance.
@@ -623,6 +575,31 @@ pub trait Trace<T, S> {
         self.occluded_ray_with::<L, KT, KS, _>(ray, mask, &mut collect);
         collect.found()
     }
+    /// The primitive nearest to `point` whose distance is at most `max_dist`, over every
+    /// instance `mask` admits: as [`crate::tree::closest_point`] (the point on it, its
+    /// barycentrics and distance; `None` when none is that near, for a non-finite point and for
+    /// a NaN or negative `max_dist`), in world space, with the hit's `geom` and `inst` (its
+    /// instance path) set. Ties in distance go to the lower (instance path, geometry,
+    /// primitive).
+    ///
+    /// # Accuracy
+    /// An instance's primitive is measured in world space: a triangle's corners carried there
+    /// in f64 (the point and distance then within a few units of 2⁻⁵² of its extent), a sphere
+    /// as the ellipsoid it becomes ([`octoray_core::kernels::NearestPoint::nearest_point_mapped`]).
+    /// Its tree is walked in object space with the radius stretched by the map's largest
+    /// singular value, so no primitive that could be nearer is skipped. An instance whose map
+    /// is singular has no world image and is left out.
+    fn closest_point(&self, point: Vec3, max_dist: f32, mask: u32) -> Option<PointHit>
+    where
+        T: NearestPoint,
+        S: NearestPoint;
+    /// The `out.len()` primitives nearest to `point` within `radius` over every instance `mask`
+    /// admits, as [`crate::tree::nearest_within`] reports them (in order of `dist`, then
+    /// instance path, geometry and primitive), measured as [`Trace::closest_point`] measures.
+    fn nearest_within(&self, point: Vec3, radius: f32, mask: u32, out: &mut [PointHit]) -> AllHits
+    where
+        T: NearestPoint,
+        S: NearestPoint;
     /// Closest hit per lane of a packet (lane by lane equal to [`Trace::closest_ray`] under the
     /// lane's mask).
     ///
@@ -779,6 +756,31 @@ impl<T: octoray_core::prim::Primitive, S: octoray_core::prim::Primitive> Trace<T
         filter: &mut F,
     ) -> bool {
         scene_single::<L, KT, KS, F, true>(self, ray, mask, filter, 0).0
+    }
+
+    fn closest_point(&self, point: Vec3, max_dist: f32, mask: u32) -> Option<PointHit>
+    where
+        T: NearestPoint,
+        S: NearestPoint,
+    {
+        if max_dist.is_nan() || max_dist < 0.0 {
+            return None;
+        }
+        let mut best = PointBest::within(max_dist);
+        scene_points(self, point, mask, &mut best);
+        best.hit()
+    }
+
+    fn nearest_within(&self, point: Vec3, radius: f32, mask: u32, out: &mut [PointHit]) -> AllHits
+    where
+        T: NearestPoint,
+        S: NearestPoint,
+    {
+        let mut sink = KNearest::new(out, radius);
+        if radius >= 0.0 {
+            scene_points(self, point, mask, &mut sink);
+        }
+        sink.found()
     }
 
     #[track_caller]

@@ -3,8 +3,10 @@
 //! masks, and the geometry and instance in every hit; its contract is
 //! [`octoray_core::scene`]'s.
 
+mod enter;
 mod instances;
 mod masks;
+mod points;
 mod tracer;
 
 pub use instances::Trace;

@@ -2,10 +2,12 @@
 
 use super::instances::Trace;
 use super::masks::RayMasks;
-use crate::tree::AllHits;
+use crate::tree::{AllHits, PointHit};
 use core::marker::PhantomData;
+use octoray_core::glam::Vec3;
 use octoray_core::hit::{Hit, HitFilter};
 use octoray_core::kernels::Kernel;
+use octoray_core::kernels::NearestPoint;
 use octoray_core::lanes::Lanes;
 use octoray_core::prim::{Ray, RayLanes};
 use octoray_core::query::ClosestHit;
@@ -112,6 +114,30 @@ impl<'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Tracer<'a, L, KT, KS> {
         out: &mut [Hit],
     ) -> AllHits {
         self.scene.all_hits_ray::<L, KT, KS>(ray, mask, after, out)
+    }
+
+    /// [`Trace::closest_point`].
+    pub fn closest_point(&self, point: Vec3, max_dist: f32, mask: u32) -> Option<PointHit>
+    where
+        KT::Prim: NearestPoint,
+        KS::Prim: NearestPoint,
+    {
+        self.scene.closest_point(point, max_dist, mask)
+    }
+
+    /// [`Trace::nearest_within`].
+    pub fn nearest_within(
+        &self,
+        point: Vec3,
+        radius: f32,
+        mask: u32,
+        out: &mut [PointHit],
+    ) -> AllHits
+    where
+        KT::Prim: NearestPoint,
+        KS::Prim: NearestPoint,
+    {
+        self.scene.nearest_within(point, radius, mask, out)
     }
 
     /// [`Trace::closest_packet`].

@@ -57,7 +57,7 @@ pub(crate) mod batch;
 pub(crate) mod epilog;
 pub(crate) mod leaf;
 pub(crate) mod packet;
-mod point;
+pub(crate) mod point;
 mod queries;
 mod region;
 pub(crate) mod single;

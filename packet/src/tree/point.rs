@@ -3,15 +3,15 @@
 
 use super::all_hits::{insert_sorted, AllHits};
 use arrayvec::ArrayVec;
-use octoray_core::bvh::{Bvh8Ref, PAD, STACK};
+use octoray_core::bvh::{Bvh8Node, Bvh8Ref, PAD, STACK};
 use octoray_core::glam::Vec3;
 use octoray_core::kernels::{Nearest, NearestPoint};
 use octoray_core::lanes::{Lanes, V3};
-use octoray_core::prim::{BlockLane, BlockRows, BLOCK};
+use octoray_core::prim::{Affine64, BlockLane, BlockRows, BLOCK};
 use wide::{f32x8, u32x8};
 
 /// The primitive nearest to a query point, and the point on it.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PointHit {
     /// The nearest point (computed in f64, rounded to f32).
     pub point: Vec3,
@@ -21,8 +21,33 @@ pub struct PointHit {
     pub u: f32,
     /// Barycentric weight of `v2` at the point (triangles; 0 for spheres).
     pub v: f32,
-    /// Index of the primitive in the slice the tree was built from.
+    /// Index of the primitive in the slice the tree was built from (in a scene: in its
+    /// geometry).
     pub prim: u32,
+    /// Its geometry (0 in a one-tree query).
+    pub geom: u32,
+    /// Its instance path (0 in a one-tree query).
+    pub inst: u32,
+}
+
+/// Where a primitive lies, in the order ties in distance are broken: instance path, geometry,
+/// primitive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(crate) struct Place {
+    pub inst: u32,
+    pub geom: u32,
+    pub prim: u32,
+}
+
+impl Place {
+    /// Primitive `id` of a one-tree query.
+    fn prim(id: u32) -> Self {
+        Self {
+            inst: 0,
+            geom: 0,
+            prim: id,
+        }
+    }
 }
 
 /// A stack entry: a child's reference and count (as in [`octoray_core::bvh::Bvh8Node`]) and a
@@ -34,9 +59,9 @@ struct Entry {
     d2: f32,
 }
 
-/// The best so far: its answer and tree index, the squared radius before the first one.
-struct Best {
-    found: Option<(Nearest, u32)>,
+/// The best so far: its answer and place, the squared radius before the first one.
+pub(crate) struct Best {
+    found: Option<(Nearest, Place)>,
     d2: f64,
     /// The f32 bound a box's rounded squared distance is compared with: `d2` raised by 2⁻¹⁹,
     /// more than the box distance's rounding (a few units of 2⁻²⁴), so no box is skipped that
@@ -46,16 +71,16 @@ struct Best {
 
 /// What a point walk gathers: offered every primitive whose box is near enough, it says how
 /// near a box must be to still matter.
-trait Sink {
+pub(crate) trait Sink {
     /// The f32 bound a box's rounded squared distance is compared with (raised above the exact
     /// bound by more than the box distance's rounding, so no box that matters is skipped).
     fn cull(&self) -> f32;
-    /// Offers primitive `id`, at `n`.
-    fn offer(&mut self, n: Nearest, id: u32);
+    /// Offers the primitive at `at`, its nearest point `n`.
+    fn offer(&mut self, n: Nearest, at: Place);
 }
 
 /// `d2` raised by 2⁻¹⁹, more than a box distance's rounding (a few units of 2⁻²⁴).
-fn cull_of(d2: f64) -> f32 {
+pub(crate) fn cull_of(d2: f64) -> f32 {
     (d2 * (1.0 + 1.0 / 524_288.0)) as f32
 }
 
@@ -64,25 +89,35 @@ impl Sink for Best {
         self.cull
     }
 
-    /// Keeps `n` on primitive `id` when nearer, or as near and of a lower index (within the
-    /// radius: at most `d2` before the first).
-    fn offer(&mut self, n: Nearest, id: u32) {
+    /// Keeps `n` at `at` when nearer, or as near and of a lower place (within the radius: at
+    /// most `d2` before the first).
+    fn offer(&mut self, n: Nearest, at: Place) {
         if !n.dist2.is_finite() {
             return;
         }
         let better = match self.found {
             None => n.dist2 <= self.d2,
-            Some((b, bid)) => n.dist2 < b.dist2 || (n.dist2 == b.dist2 && id < bid),
+            Some((b, bat)) => n.dist2 < b.dist2 || (n.dist2 == b.dist2 && at < bat),
         };
         if better {
-            *self = Self::new(Some((n, id)), n.dist2);
+            *self = Self::new(Some((n, at)), n.dist2);
         }
     }
 }
 
 impl Best {
+    /// Nothing found yet within `max_dist`.
+    pub fn within(max_dist: f32) -> Self {
+        Self::new(None, f64::from(max_dist) * f64::from(max_dist))
+    }
+
+    /// The answer.
+    pub fn hit(&self) -> Option<PointHit> {
+        self.found.map(|(n, at)| point_hit(&n, at))
+    }
+
     /// The best `found` at squared distance `d2`.
-    fn new(found: Option<(Nearest, u32)>, d2: f64) -> Self {
+    fn new(found: Option<(Nearest, Place)>, d2: f64) -> Self {
         Self {
             found,
             d2,
@@ -91,21 +126,23 @@ impl Best {
     }
 }
 
-/// The reported form of primitive `id`'s nearest point `n`.
-fn point_hit(n: &Nearest, id: u32) -> PointHit {
+/// The reported form of the nearest point `n` of the primitive at `at`.
+fn point_hit(n: &Nearest, at: Place) -> PointHit {
     let f = |x: [f64; 3]| Vec3::from_array(x.map(|c| c as f32));
     PointHit {
         point: f(n.point),
         dist: Lanes::sqrt(n.dist2) as f32,
         u: n.u as f32 + 0.0,
         v: n.v as f32 + 0.0,
-        prim: id,
+        prim: at.prim,
+        geom: at.geom,
+        inst: at.inst,
     }
 }
 
 /// The nearest `out.len()` primitives within a radius, in order of their reported distance,
-/// then index.
-struct KNearest<'o> {
+/// then place.
+pub(crate) struct KNearest<'o> {
     out: &'o mut [PointHit],
     found: AllHits,
     r2: f64,
@@ -117,13 +154,14 @@ impl Sink for KNearest<'_> {
         self.cull
     }
 
-    fn offer(&mut self, n: Nearest, id: u32) {
+    fn offer(&mut self, n: Nearest, at: Place) {
         if !n.dist2.is_finite() || n.dist2 > self.r2 {
             return;
         }
+        let place = |h: &PointHit| (h.inst, h.geom, h.prim);
         let order =
-            |a: &PointHit, b: &PointHit| a.dist.total_cmp(&b.dist).then(a.prim.cmp(&b.prim));
-        insert_sorted(self.out, &mut self.found, point_hit(&n, id), order);
+            |a: &PointHit, b: &PointHit| a.dist.total_cmp(&b.dist).then(place(a).cmp(&place(b)));
+        insert_sorted(self.out, &mut self.found, point_hit(&n, at), order);
         if self.found.stored == self.out.len() {
             self.found.complete = false;
             // Full: only primitives as near as the last one kept still matter (its distance
@@ -165,9 +203,9 @@ pub fn closest_point<P: NearestPoint>(
     if !point.is_finite() || max_dist.is_nan() || max_dist < 0.0 {
         return None;
     }
-    let mut best = Best::new(None, f64::from(max_dist) * f64::from(max_dist));
+    let mut best = Best::within(max_dist);
     walk(bvh, point, &mut best);
-    best.found.map(|(n, id)| point_hit(&n, id))
+    best.hit()
 }
 
 /// The `out.len()` primitives of `bvh` nearest to `point` within `radius` (inclusive;
@@ -190,7 +228,7 @@ pub fn closest_point<P: NearestPoint>(
 ///     })
 ///     .collect();
 /// let bvh = Bvh8::build(&tris);
-/// let mut out = [PointHit { point: Vec3::ZERO, dist: 0.0, u: 0.0, v: 0.0, prim: 0 }; 3];
+/// let mut out = [PointHit::default(); 3];
 /// let found = nearest_within(bvh.as_ref(), Vec3::new(4.2, 0.1, 0.1), 2.0, &mut out);
 /// assert_eq!((found.stored, found.complete), (3, false));
 /// assert_eq!(out.map(|h| h.prim), [4, 5, 3]);
@@ -202,29 +240,115 @@ pub fn nearest_within<P: NearestPoint>(
     radius: f32,
     out: &mut [PointHit],
 ) -> AllHits {
-    let full = out.is_empty();
-    let mut sink = KNearest {
-        out,
-        found: AllHits {
-            stored: 0,
-            complete: !full,
-        },
-        r2: f64::from(radius) * f64::from(radius),
-        cull: cull_of(f64::from(radius) * f64::from(radius)),
-    };
+    let mut sink = KNearest::new(out, radius);
     if point.is_finite() && radius >= 0.0 {
         walk(bvh, point, &mut sink);
     }
     sink.found
 }
 
-/// The walk: boxes near enough for `sink`, nearest child next, every leaf's primitives offered.
+impl<'o> KNearest<'o> {
+    /// None found yet within `radius`, room for `out.len()`.
+    pub fn new(out: &'o mut [PointHit], radius: f32) -> Self {
+        let r2 = f64::from(radius) * f64::from(radius);
+        Self {
+            found: AllHits {
+                stored: 0,
+                complete: !out.is_empty(),
+            },
+            out,
+            r2,
+            cull: cull_of(r2),
+        }
+    }
+
+    /// What was stored.
+    pub fn found(&self) -> AllHits {
+        self.found
+    }
+}
+
+/// The walk of one tree with its primitives measured directly.
 fn walk<P: NearestPoint>(bvh: Bvh8Ref<'_, P>, point: Vec3, sink: &mut impl Sink) {
-    if bvh.nodes().is_empty() {
+    let p = point.to_array().map(f64::from);
+    let mut leaves = PrimLeaves {
+        bvh,
+        p,
+        q: V3::splat(point.to_array()),
+        to_world: None,
+        sink,
+    };
+    point_walk(bvh.nodes(), &mut leaves);
+}
+
+/// What a point walk does at one tree's leaves, and where it stands.
+pub(crate) trait PointLeaves {
+    /// The query point in the tree's space.
+    fn point(&self) -> V3<f32x8>;
+    /// The bound a box's rounded squared distance (in the tree's space) is compared with.
+    fn cull(&self) -> f32;
+    /// Visits the slots `first..first + count`.
+    fn leaf(&mut self, first: u32, count: u32);
+}
+
+/// A tree's primitives offered to a sink: measured from `p` as they are, or, placed by
+/// `to_world` (an instance's), in world space from the world point `p`.
+pub(crate) struct PrimLeaves<'a, 's, P, S> {
+    pub bvh: Bvh8Ref<'a, P>,
+    pub p: [f64; 3],
+    /// `p` in the tree's space, for its box tests.
+    pub q: V3<f32x8>,
+    pub to_world: Option<&'s Affine64>,
+    pub sink: &'s mut S,
+}
+
+impl<P: NearestPoint, S: Sink> PointLeaves for PrimLeaves<'_, '_, P, S> {
+    fn point(&self) -> V3<f32x8> {
+        self.q
+    }
+
+    fn cull(&self) -> f32 {
+        self.sink.cull()
+    }
+
+    /// Offers the leaf's primitives: a block at a time, those whose box is near enough.
+    fn leaf(&mut self, first: u32, count: u32) {
+        let bvh = self.bvh;
+        let first = first as usize;
+        let end = (first + count as usize).min(bvh.ids().len());
+        let mut start = first;
+        while start < end {
+            let block = bvh.block_of(start);
+            let bound = P::dist2_bound(&BlockRows::new::<P>(block, 0), self.q);
+            let lanes = (1u32 << (end - start).min(BLOCK)) - 1;
+            let mut near = bound.simd_le(f32x8::splat(self.sink.cull())).to_bitmask() & lanes;
+            let bound = bound.to_array();
+            while near != 0 {
+                let i = near.trailing_zeros() as usize;
+                near &= near - 1;
+                let id = bvh.ids()[start + i];
+                if id == PAD || bound[i] > self.sink.cull() {
+                    continue;
+                }
+                let words = BlockLane::new::<P>(block, i);
+                let n = match self.to_world {
+                    None => P::nearest_point(&words, self.p),
+                    Some(map) => P::nearest_point_mapped(&words, map, self.p),
+                };
+                self.sink.offer(n, Place::prim(id));
+            }
+            start += BLOCK;
+        }
+    }
+}
+
+/// The walk of a tree of `nodes`: boxes near enough for `leaves`, nearest child next, every
+/// near leaf visited.
+pub(crate) fn point_walk(nodes: &[Bvh8Node], leaves: &mut impl PointLeaves) {
+    if nodes.is_empty() {
         return;
     }
-    let p = point.to_array().map(f64::from);
-    let q = V3::<f32x8>::splat(point.to_array());
+    let q = leaves.point();
     let mut stack = ArrayVec::<Entry, STACK>::new();
     stack.push(Entry {
         child: 0,
@@ -232,14 +356,14 @@ fn walk<P: NearestPoint>(bvh: Bvh8Ref<'_, P>, point: Vec3, sink: &mut impl Sink)
         d2: 0.0,
     });
     while let Some(e) = stack.pop() {
-        if e.d2 > sink.cull() {
+        if e.d2 > leaves.cull() {
             continue;
         }
         if e.count > 0 {
-            leaf(bvh, e, (p, q), sink);
+            leaves.leaf(e.child, e.count);
             continue;
         }
-        let Some(node) = bvh.nodes().get(e.child as usize) else {
+        let Some(node) = nodes.get(e.child as usize) else {
             continue;
         };
         // Squared distance to each slot's box (empty slots: +inf); the near ones, far first.
@@ -249,7 +373,7 @@ fn walk<P: NearestPoint>(bvh: Bvh8Ref<'_, P>, point: Vec3, sink: &mut impl Sink)
         };
         let (dx, dy, dz) = (axis(0, q.x), axis(1, q.y), axis(2, q.z));
         let d2v = dx * dx + dy * dy + dz * dz;
-        let near_mask = d2v.simd_le(f32x8::splat(sink.cull()));
+        let near_mask = d2v.simd_le(f32x8::splat(leaves.cull()));
         let mut near = near_mask.to_bitmask();
         if near == 0 {
             continue;
@@ -276,35 +400,5 @@ fn walk<P: NearestPoint>(bvh: Bvh8Ref<'_, P>, point: Vec3, sink: &mut impl Sink)
             let _ = stack.try_push(entry(s));
         }
         let _ = stack.try_push(entry(nearest));
-    }
-}
-
-/// Offers the primitives of the leaf `e` to `best`: a block at a time, those whose box is near
-/// enough.
-fn leaf<P: NearestPoint>(
-    bvh: Bvh8Ref<'_, P>,
-    e: Entry,
-    (p, q): ([f64; 3], V3<f32x8>),
-    best: &mut impl Sink,
-) {
-    let first = e.child as usize;
-    let end = (first + e.count as usize).min(bvh.ids().len());
-    let mut start = first;
-    while start < end {
-        let block = bvh.block_of(start);
-        let bound = P::dist2_bound(&BlockRows::new::<P>(block, 0), q);
-        let lanes = (1u32 << (end - start).min(BLOCK)) - 1;
-        let mut near = bound.simd_le(f32x8::splat(best.cull())).to_bitmask() & lanes;
-        let bound = bound.to_array();
-        while near != 0 {
-            let i = near.trailing_zeros() as usize;
-            near &= near - 1;
-            let id = bvh.ids()[start + i];
-            if id == PAD || bound[i] > best.cull() {
-                continue;
-            }
-            best.offer(P::nearest_point(&BlockLane::new::<P>(block, i), p), id);
-        }
-        start += BLOCK;
     }
 }
