@@ -77,6 +77,25 @@ typedef struct OctorayHit {
   uint32_t inst;
 } OctorayHit;
 
+// The primitive nearest to a point, and the point on it (a miss: `prim == OCTORAY_NO_HIT`,
+// `dist` infinite, the rest 0).
+typedef struct OctorayPointHit {
+  // The nearest point (world space).
+  float point[3];
+  // Its distance to the query point.
+  float dist;
+  // Barycentric weight of the triangle's second vertex at the point (0 for spheres).
+  float u;
+  // Barycentric weight of the triangle's third vertex at the point (0 for spheres).
+  float v;
+  // The primitive's index in its geometry.
+  uint32_t prim;
+  // The geometry.
+  uint32_t geom;
+  // The instance path it was found through.
+  uint32_t inst;
+} OctorayPointHit;
+
 // `N` rays, structure of arrays. A lane with `t_min > t_max` is a miss (fill unused lanes
 // so).
 typedef struct OctorayRays_8 {
@@ -281,6 +300,22 @@ enum OctorayStatus octoray_all_hits1(const struct OctorayScene *scene,
                                      size_t capacity,
                                      size_t *stored,
                                      uint8_t *complete);
+
+// The primitive nearest to `point` (three floats, world space) at a distance of at most
+// `max_dist` (`INFINITY`: no limit) among the instances and geometries whose masks share a bit
+// with `mask`, into `*out`: the point on it, its distance and barycentrics, where it lies; a
+// miss when none is that near, for a non-finite point and for a NaN or negative `max_dist`.
+// Ties in distance go to the lower (instance, geometry, primitive). Each primitive is measured
+// in world space in f64 (an instanced sphere as the ellipsoid its instance makes of it).
+//
+// # Safety
+// `scene` is a live scene not changed meanwhile; `point` is valid for reading three floats;
+// `out` is valid for writing one `OctorayPointHit`.
+enum OctorayStatus octoray_closest_point1(const struct OctorayScene *scene,
+                                          const float *point,
+                                          float max_dist,
+                                          uint32_t mask,
+                                          struct OctorayPointHit *out);
 
 // The closest hits of an 8-ray SoA packet (every lane traced; an empty range is a miss).
 //

@@ -16,6 +16,7 @@ use octoray::glam::{Affine3A, Mat3A, Vec3, Vec3A};
 use octoray::hit::Hit;
 use octoray::prim::{PackedSphere, PackedTriangle, Ray, VertexTriangle};
 use octoray::scene::{Scene, SceneRef, Transform};
+use octoray::tree::PointHit;
 use octoray::{f32x16, f32x8};
 
 mod status;
@@ -758,6 +759,74 @@ pub unsafe extern "C" fn octoray_all_hits1(
             (stored, complete),
         )
     }
+}
+
+/// The primitive nearest to a point, and the point on it (a miss: `prim == OCTORAY_NO_HIT`,
+/// `dist` infinite, the rest 0).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OctorayPointHit {
+    /// The nearest point (world space).
+    pub point: [f32; 3],
+    /// Its distance to the query point.
+    pub dist: f32,
+    /// Barycentric weight of the triangle's second vertex at the point (0 for spheres).
+    pub u: f32,
+    /// Barycentric weight of the triangle's third vertex at the point (0 for spheres).
+    pub v: f32,
+    /// The primitive's index in its geometry.
+    pub prim: u32,
+    /// The geometry.
+    pub geom: u32,
+    /// The instance path it was found through.
+    pub inst: u32,
+}
+
+impl From<Option<PointHit>> for OctorayPointHit {
+    fn from(h: Option<PointHit>) -> Self {
+        match h {
+            Some(h) => Self {
+                point: h.point.to_array(),
+                dist: h.dist,
+                u: h.u,
+                v: h.v,
+                prim: h.prim,
+                geom: h.geom,
+                inst: h.inst,
+            },
+            None => Self {
+                point: [0.0; 3],
+                dist: f32::INFINITY,
+                u: 0.0,
+                v: 0.0,
+                prim: OCTORAY_NO_HIT,
+                geom: OCTORAY_NO_HIT,
+                inst: OCTORAY_NO_HIT,
+            },
+        }
+    }
+}
+
+/// The primitive nearest to `point` (three floats, world space) at a distance of at most
+/// `max_dist` (`INFINITY`: no limit) among the instances and geometries whose masks share a bit
+/// with `mask`, into `*out`: the point on it, its distance and barycentrics, where it lies; a
+/// miss when none is that near, for a non-finite point and for a NaN or negative `max_dist`.
+/// Ties in distance go to the lower (instance, geometry, primitive). Each primitive is measured
+/// in world space in f64 (an instanced sphere as the ellipsoid its instance makes of it).
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `point` is valid for reading three floats;
+/// `out` is valid for writing one `OctorayPointHit`.
+#[no_mangle]
+pub unsafe extern "C" fn octoray_closest_point1(
+    scene: *const OctorayScene,
+    point: *const f32,
+    max_dist: f32,
+    mask: u32,
+    out: *mut OctorayPointHit,
+) -> OctorayStatus {
+    // SAFETY: the same contract.
+    unsafe { trace::closest_point("octoray_closest_point1", scene, point, max_dist, mask, out) }
 }
 
 /// The closest hits of an 8-ray SoA packet (every lane traced; an empty range is a miss).

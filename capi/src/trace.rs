@@ -9,8 +9,8 @@ use octoray::prim::{PackedSphere, PackedTriangle, Ray, RayLanes, VertexTriangle}
 use octoray::scene::Trace;
 
 use crate::{
-    null_check, put, run, scene_ref, slice, slice_mut, OctorayHit, OctorayHits, OctorayRay,
-    OctorayRays, OctorayScene, OctorayStatus, OctorayTier, View,
+    null_check, put, run, scene_ref, slice, slice_mut, OctorayHit, OctorayHits, OctorayPointHit,
+    OctorayRay, OctorayRays, OctorayScene, OctorayStatus, OctorayTier, View,
 };
 
 /// Dispatches `$body` over the view's layout and the scene's tier: `$s` is the scene, `$KT`
@@ -313,6 +313,38 @@ pub(crate) unsafe fn all_hits(
             put(stored, n);
             put(complete, u8::from(all));
         }
+        Ok(())
+    })
+}
+
+/// `octoray_closest_point1`: the primitive nearest to `point` within `max_dist` into `*out`
+/// (a miss: `prim == OCTORAY_NO_HIT`).
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `point` is valid for reading three floats;
+/// `out` for writing one answer.
+pub(crate) unsafe fn closest_point(
+    call: &str,
+    scene: *const OctorayScene,
+    point: *const f32,
+    max_dist: f32,
+    mask: u32,
+    out: *mut OctorayPointHit,
+) -> OctorayStatus {
+    run(|| {
+        // SAFETY: the caller's contract.
+        let s = unsafe { scene_ref(scene, call) }?;
+        // SAFETY: the caller's contract.
+        let p = unsafe { slice(point, 3, call, "point") }?;
+        let out = null_check(out, call, "out")?;
+        let view = s.view(call)?;
+        let p = octoray::glam::Vec3::new(p[0], p[1], p[2]);
+        let found = match view {
+            View::Packed(sc) => sc.closest_point(p, max_dist, mask),
+            View::Vertex(sc) => sc.closest_point(p, max_dist, mask),
+        };
+        // SAFETY: non-null and, by the contract, valid for writing.
+        unsafe { put(out, OctorayPointHit::from(found)) };
         Ok(())
     })
 }

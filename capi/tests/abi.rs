@@ -349,6 +349,40 @@ fn every_failure_is_a_status_with_a_message() {
                 assert_eq!(page[0].t.to_bits(), h.t.to_bits());
             }
         }
+        // Closest point: a hit point lies on the surface; a non-finite point and a negative
+        // radius find nothing; a missing output is an error.
+        let mut near = OctorayPointHit::from(None);
+        for ray in &r {
+            octoray_closest1(scene, ray, !0, &mut h);
+            if h.prim == OCTORAY_NO_HIT {
+                continue;
+            }
+            let p: [f32; 3] = core::array::from_fn(|k| ray.org[k] + h.t * ray.dir[k]);
+            assert_eq!(
+                octoray_closest_point1(scene, p.as_ptr(), f32::INFINITY, !0, &mut near),
+                OctorayStatus::Ok
+            );
+            let size = p.iter().fold(1.0f32, |m, x| m.max(x.abs()));
+            assert!(
+                near.prim != OCTORAY_NO_HIT && near.dist <= 1e-5 * size,
+                "{near:?}"
+            );
+            assert_eq!(
+                octoray_closest_point1(scene, p.as_ptr(), -1.0, !0, &mut near),
+                OctorayStatus::Ok
+            );
+            assert_eq!(near, OctorayPointHit::from(None));
+        }
+        let nan = [f32::NAN, 0.0, 0.0];
+        assert_eq!(
+            octoray_closest_point1(scene, nan.as_ptr(), f32::INFINITY, !0, &mut near),
+            OctorayStatus::Ok
+        );
+        assert_eq!(near.prim, OCTORAY_NO_HIT);
+        assert_eq!(
+            octoray_closest_point1(scene, nan.as_ptr(), 1.0, !0, null_mut()),
+            OctorayStatus::NullPointer
+        );
         assert_eq!(
             octoray_scene_store(scene, null_mut(), 0, &mut len),
             OctorayStatus::Ok
