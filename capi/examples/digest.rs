@@ -11,9 +11,10 @@
 use octoray::f32x8;
 use octoray::glam::{Affine3A, Mat3A, Vec3, Vec3A};
 use octoray::hit::{Digest, Hit};
-use octoray::kernels::{Exact, Kernel, MollerTrumbore, StableSphere, Watertight};
+use octoray::kernels::{Exact, Kernel, MollerTrumbore, NearestPoint, StableSphere, Watertight};
 use octoray::prim::{PackedSphere, PackedTriangle, Primitive, Ray, VertexTriangle};
 use octoray::scene::{Scene, Trace, Transform};
+use octoray::tree::PointHit;
 use octoray_demo::scene::{stored_digest, TierArg, Triangles};
 
 const GRID: u32 = 24;
@@ -31,7 +32,7 @@ fn camera(k: u32) -> Ray {
 
 fn run<T, KT>(tier: u32, tri: impl Fn(Vec3, Vec3, Vec3) -> T)
 where
-    T: Primitive + Sync,
+    T: Primitive + Sync + NearestPoint,
     KT: Kernel<f32x8, Prim = T>,
 {
     let vertex =
@@ -108,6 +109,16 @@ where
         }
     }
 
+    // The closest point to each shadow ray's origin lifted by 1.5.
+    let near: Vec<PointHit> = shadow
+        .iter()
+        .map(|r| {
+            let p = r.origin + Vec3::new(0.0, 1.5, 0.0);
+            s.closest_point(p, f32::INFINITY, !0)
+                .expect("a point near the scene")
+        })
+        .collect();
+
     let mut digest = Digest::new();
     hits.iter().for_each(|&h| digest.placed_hit(h));
     blocked.iter().for_each(|&b| digest.word(u32::from(b)));
@@ -115,13 +126,22 @@ where
         .iter()
         .take(rays.len() * 8)
         .for_each(|&h| digest.placed_hit(Some(h)));
+    for h in &near {
+        let floats = [h.point.x, h.point.y, h.point.z, h.dist, h.u, h.v];
+        floats.iter().for_each(|x| digest.word(x.to_bits()));
+        [h.prim, h.geom, h.inst]
+            .iter()
+            .for_each(|&w| digest.word(w));
+    }
     let digest = digest.value();
     println!(
-        "tier {tier}: {} rays, {} hit, {} in shadow, {} hits along them, digest 0x{digest:016x}",
+        "tier {tier}: {} rays, {} hit, {} in shadow, {} hits along them, {} closest points, \
+         digest 0x{digest:016x}",
         rays.len(),
         shadow.len(),
         blocked.iter().filter(|&&b| b).count(),
-        along.len()
+        along.len(),
+        near.len()
     );
 }
 

@@ -207,6 +207,14 @@ static int run_job(uint32_t tier) {
     mismatches += first && hits[k].prim != OCTORAY_NO_HIT;
   }
 
+  /* The closest point to each shadow ray's origin lifted by 1.5: its point, distance and place. */
+  static OctorayPointHit near[RAYS];
+  for (int k = 0; k < n; k++) {
+    const float p[3] = {shadow[k].org[0], shadow[k].org[1] + 1.5f, shadow[k].org[2]};
+    check(octoray_closest_point1(scene, p, INFINITY, ~0u, &near[k]), "octoray_closest_point1");
+    mismatches += near[k].prim == OCTORAY_NO_HIT || !(near[k].dist <= 1.5f);
+  }
+
   /* Stored and loaded back: the same answers. */
   size_t len = 0;
   check(octoray_scene_store(scene, NULL, 0, &len), "octoray_scene_store");
@@ -242,8 +250,18 @@ static int run_job(uint32_t tier) {
   for (int k = 0; k < RAYS; k++) fnv_hit(&digest, &hits[k]);
   for (int k = 0; k < n; k++) fnv_word(&digest, blocked[k]);
   for (int k = 0; k < along && k < RAYS * 8; k++) fnv_hit(&digest, &all[k]);
-  printf("tier %u: %d rays, %d hit, %d in shadow, %d hits along them, digest 0x%016llx\n", tier,
-         RAYS, hit_count, shadowed, along, (unsigned long long)digest);
+  for (int k = 0; k < n; k++) {
+    for (int a = 0; a < 3; a++) fnv_word(&digest, bits(near[k].point[a]));
+    fnv_word(&digest, bits(near[k].dist));
+    fnv_word(&digest, bits(near[k].u));
+    fnv_word(&digest, bits(near[k].v));
+    fnv_word(&digest, near[k].prim);
+    fnv_word(&digest, near[k].geom);
+    fnv_word(&digest, near[k].inst);
+  }
+  printf("tier %u: %d rays, %d hit, %d in shadow, %d hits along them, %d closest points, digest "
+         "0x%016llx\n",
+         tier, RAYS, hit_count, shadowed, along, n, (unsigned long long)digest);
   if (mismatches != 0 || !refused) {
     fprintf(stderr, "%d mismatches between the calls; bad input refused: %d\n", mismatches, refused);
     return 1;
