@@ -289,6 +289,28 @@ where
             }
         }
     }
+    // Every hit of each ray of the slice, three slots each (a mask per ray when there are
+    // several): brute force's first three, complete when it has no more.
+    let per_ray: Vec<u32> = (0..rays.len()).map(|k| masks[k % masks.len()]).collect();
+    let mut out = vec![Hit::default(); 3 * rays.len()];
+    let mut found = vec![
+        octoray::tree::AllHits {
+            stored: 9,
+            complete: false
+        };
+        rays.len()
+    ];
+    scene.all_hits::<L, KT, KS>(rays, &per_ray[..], &mut out, &mut found);
+    for (k, ray) in rays.iter().enumerate() {
+        let all = brute_all::<S1, KT, KS>(w, ray, per_ray[k]);
+        let f = found[k];
+        assert_eq!(
+            &out[3 * k..3 * k + f.stored],
+            &all[..all.len().min(3)],
+            "all hits slice {ray:?}"
+        );
+        assert_eq!(f.complete, all.len() <= 3, "all hits slice {ray:?}");
+    }
     // A mask per ray: packets mixing masks, slices too, each ray as brute force under its own.
     if masks.len() > 1 {
         let per_ray: Vec<u32> = (0..rays.len())

@@ -2,9 +2,9 @@
 //! instance's object space and walk its geometry's tree ([`Instances`], a [`Leaf`]).
 
 use super::enter::{enter, Entered, Geometries};
-use super::masks::{check_masks, RayMasks};
+use super::masks::{check_masks, Chunk, RayMasks};
 use super::points::scene_points;
-use crate::tree::all_hits::{AllHits, Collect};
+use crate::tree::all_hits::{in_chunks, AllHits, Collect};
 use crate::tree::batch::{closest_slice, occluded_slice};
 use crate::tree::epilog::UNPLACED;
 use crate::tree::epilog::{bound, Best, PacketBest};
@@ -600,6 +600,33 @@ pub trait Trace<T, S> {
     where
         T: NearestPoint,
         S: NearestPoint;
+    /// Every hit of each ray under its mask: ray `i`'s first `out.len() / rays.len()` hits in
+    /// hit order into that run of `out` (`out[i·cap..(i + 1)·cap]`), its count and completeness
+    /// into `found[i]`; as [`Trace::all_hits_ray`] ray by ray (continue a ray whose answer is
+    /// incomplete with it and its cursor), traced as packets where neighbouring rays share a
+    /// direction octant.
+    ///
+    /// # Panics
+    /// When `found.len() != rays.len()`, `out.len()` is not a multiple of `rays.len()`, or
+    /// `mask` is a slice of other than `rays.len()` masks.
+    #[track_caller]
+    fn all_hits<L: Lanes, KT: Kernel<L, Prim = T>, KS: Kernel<L, Prim = S>>(
+        &self,
+        rays: &[Ray],
+        mask: impl RayMasks,
+        out: &mut [Hit],
+        found: &mut [AllHits],
+    ) {
+        check_masks("all_hits", mask, rays.len());
+        in_chunks(rays, out, found, |first, chunk, occluded, collect| {
+            let masks = Chunk {
+                masks: mask,
+                first,
+                len: chunk.len(),
+            };
+            self.occluded_with::<L, KT, KS, _>(chunk, masks, occluded, collect);
+        });
+    }
     /// Closest hit per lane of a packet (lane by lane equal to [`Trace::closest_ray`] under the
     /// lane's mask).
     ///

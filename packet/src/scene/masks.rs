@@ -51,3 +51,30 @@ pub(super) fn check_masks<M: RayMasks>(what: &str, masks: M, rays: usize) {
         assert_eq!(n, rays, "octoray {what}: {n} ray masks for {rays} rays");
     }
 }
+
+/// The masks of `len` rays from ray `first` on: a slice's chunk.
+#[derive(Clone, Copy)]
+pub(super) struct Chunk<M> {
+    pub masks: M,
+    pub first: usize,
+    pub len: usize,
+}
+
+impl<M: RayMasks> RayMasks for Chunk<M> {
+    #[inline(always)]
+    fn at(&self, i: usize) -> u32 {
+        if i < self.len {
+            self.masks.at(self.first + i)
+        } else {
+            0
+        }
+    }
+    #[inline(always)]
+    fn uniform(&self) -> Option<u32> {
+        self.masks.uniform()
+    }
+    #[inline(always)]
+    fn count(&self) -> Option<usize> {
+        self.masks.count().map(|_| self.len)
+    }
+}

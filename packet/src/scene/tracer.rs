@@ -116,6 +116,21 @@ impl<'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Tracer<'a, L, KT, KS> {
         self.scene.all_hits_ray::<L, KT, KS>(ray, mask, after, out)
     }
 
+    /// [`Trace::all_hits`].
+    ///
+    /// # Panics
+    /// As [`Trace::all_hits`].
+    #[track_caller]
+    pub fn all_hits(
+        &self,
+        rays: &[Ray],
+        mask: impl RayMasks,
+        out: &mut [Hit],
+        found: &mut [AllHits],
+    ) {
+        self.scene.all_hits::<L, KT, KS>(rays, mask, out, found);
+    }
+
     /// [`Trace::closest_point`].
     pub fn closest_point(&self, point: Vec3, max_dist: f32, mask: u32) -> Option<PointHit>
     where

@@ -201,6 +201,24 @@ pub fn all_hits<L: Lanes, K: Kernel<L>>(
     out: &mut [Hit],
     found: &mut [AllHits],
 ) {
+    in_chunks(rays, out, found, |_, chunk, occluded, collect| {
+        occluded_with::<L, K, _>(bvh, chunk, occluded, collect);
+    });
+}
+
+/// The slice form of every all-hits query: checks the buffers' sizes, then has `walk` trace
+/// the rays in chunks of 64 (its first ray's index, the chunk, an occlusion buffer of its
+/// length) with one collector that files each ray's hits in its run of `out`.
+///
+/// # Panics
+/// When `found.len() != rays.len()`, or `out.len()` is not a multiple of `rays.len()`.
+#[track_caller]
+pub(crate) fn in_chunks(
+    rays: &[Ray],
+    out: &mut [Hit],
+    found: &mut [AllHits],
+    mut walk: impl FnMut(usize, &[Ray], &mut [bool], &mut CollectEach<'_>),
+) {
     assert_eq!(
         found.len(),
         rays.len(),
@@ -218,6 +236,6 @@ pub fn all_hits<L: Lanes, K: Kernel<L>>(
     let mut occluded = [false; 64];
     for (k, chunk) in rays.chunks(64).enumerate() {
         collect.base = 64 * k;
-        occluded_with::<L, K, _>(bvh, chunk, &mut occluded[..chunk.len()], &mut collect);
+        walk(64 * k, chunk, &mut occluded[..chunk.len()], &mut collect);
     }
 }
