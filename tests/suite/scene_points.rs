@@ -17,6 +17,12 @@ use proptest::prelude::*;
 /// its answer.
 type Found = (f64, (u32, u32, u32), Nearest);
 
+/// Each of `prims` measured from `p`: as it is, or placed by `map`.
+fn measured<P: NearestPoint>(prims: &[P], map: Option<&Affine64>, p: [f64; 3]) -> Vec<Nearest> {
+    let one = |x: &P| map.map_or_else(|| x.nearest(p), |m| x.nearest_mapped(m, p));
+    prims.iter().map(one).collect()
+}
+
 /// Every admitted primitive of `places` (a level whose space maps to the world by `to_world`)
 /// measured from the world point `p`; `path` counts instance paths depth first, also through
 /// instances left out.
@@ -45,25 +51,18 @@ fn brute_level(
             let Some(map) = here.filter(|_| inst.mask & gmask & mask != 0) else {
                 continue;
             };
-            let direct = map == Affine64::IDENTITY;
-            let measure = |prim: &dyn Fn(&Affine64) -> Nearest, near: Nearest| {
-                if direct {
-                    near
-                } else {
-                    prim(&map)
-                }
+            // As the walk measures: directly where the map is the identity.
+            let placed = (map != Affine64::IDENTITY).then_some(&map);
+            let ns = match g {
+                Geom::Tris(ts) => measured(ts, placed, p),
+                Geom::Spheres(ss) => measured(ss, placed, p),
             };
             let place = |i: usize| (*path, geom, i as u32);
-            match g {
-                Geom::Tris(ts) => out.extend(ts.iter().enumerate().map(|(i, t)| {
-                    let n = measure(&|m| t.nearest_mapped(m, p), t.nearest(p));
-                    (n.dist2, place(i), n)
-                })),
-                Geom::Spheres(ss) => out.extend(ss.iter().enumerate().map(|(i, s)| {
-                    let n = measure(&|m| s.nearest_mapped(m, p), s.nearest(p));
-                    (n.dist2, place(i), n)
-                })),
-            }
+            out.extend(
+                ns.into_iter()
+                    .enumerate()
+                    .map(|(i, n)| (n.dist2, place(i), n)),
+            );
         }
         *path += 1;
     }
@@ -82,24 +81,22 @@ fn reported((_, (inst, geom, prim), n): Found) -> PointHit {
     }
 }
 
+/// Brute force's candidates within `radius` of `p` under `mask`.
+fn within(w: &World<VertexTriangle>, p: Vec3, radius: f32, mask: u32) -> Vec<Found> {
+    let mut all = Vec::new();
+    let pf = p.to_array().map(f64::from);
+    let world = Some(Affine64::IDENTITY);
+    brute_level(w, &w.insts, world, pf, mask, &mut 0, &mut all);
+    let r2 = f64::from(radius) * f64::from(radius);
+    all.retain(|f| f.0.is_finite() && f.0 <= r2);
+    all
+}
+
 /// Brute force's answers as the queries report them, nearest first (ties by place), within
 /// `radius`.
 fn brute(w: &World<VertexTriangle>, p: Vec3, radius: f32, mask: u32) -> Vec<PointHit> {
-    let mut all = Vec::new();
-    let pf = p.to_array().map(f64::from);
-    brute_level(
-        w,
-        &w.insts,
-        Some(Affine64::IDENTITY),
-        pf,
-        mask,
-        &mut 0,
-        &mut all,
-    );
-    let r2 = f64::from(radius) * f64::from(radius);
-    let mut hits: Vec<PointHit> = all
+    let mut hits: Vec<PointHit> = within(w, p, radius, mask)
         .into_iter()
-        .filter(|f| f.0.is_finite() && f.0 <= r2)
         .map(reported)
         .collect();
     hits.sort_by(|a, b| {
@@ -112,20 +109,8 @@ fn brute(w: &World<VertexTriangle>, p: Vec3, radius: f32, mask: u32) -> Vec<Poin
 
 /// The nearest by exact squared distance (what `closest_point` ranks by), ties by place.
 fn brute_closest(w: &World<VertexTriangle>, p: Vec3, radius: f32, mask: u32) -> Option<PointHit> {
-    let mut all = Vec::new();
-    let pf = p.to_array().map(f64::from);
-    brute_level(
-        w,
-        &w.insts,
-        Some(Affine64::IDENTITY),
-        pf,
-        mask,
-        &mut 0,
-        &mut all,
-    );
-    let r2 = f64::from(radius) * f64::from(radius);
-    all.into_iter()
-        .filter(|f| f.0.is_finite() && f.0 <= r2)
+    within(w, p, radius, mask)
+        .into_iter()
         .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
         .map(reported)
 }
