@@ -6,7 +6,7 @@
 #![cfg(all(feature = "triangle", feature = "sphere", feature = "alloc"))]
 use octoray_testkit as testkit;
 
-use octoray::bvh::BuildOptions;
+use octoray::bvh::{BuildOptions, PAD};
 use octoray::glam::{Affine3A, Quat, Vec3};
 use octoray::hit::{Candidate, Hit};
 use octoray::kernels::{Kernel, MollerTrumbore, StableSphere, Watertight};
@@ -619,6 +619,116 @@ pub(crate) fn world<T: Primitive + Sync>(
         },
         rays,
     )
+}
+
+/// A world of overlapping instances of level-spanning meshes (and a sphere set): what partial
+/// re-braiding opens into parts. Meshes of hundreds of triangles scattered over one region,
+/// placed several times each by rotations about it, scales near 1, mirrors and the identity,
+/// and one group placing two of them (a group's instance is never opened); rays aimed at their
+/// world points.
+pub(crate) fn overlapping_world(seed: u64) -> (World<VertexTriangle>, Vec<Ray>) {
+    let mut rng = Rng(seed);
+    let s = 10f32.powf(rng.range(-1.0, 1.0));
+    let mut geoms = Vec::new();
+    let mut local: Vec<Vec<Vec3>> = Vec::new();
+    for _ in 0..3 {
+        let m: Vec<[Vec3; 3]> = (0..300 + rng.below(500))
+            .map(|_| {
+                let a = rng.vec3(s);
+                [a, a + rng.vec3(s * 0.1), a + rng.vec3(s * 0.1)]
+            })
+            .collect();
+        local.push(m.iter().map(|t| (t[0] + t[1] + t[2]) / 3.0).collect());
+        geoms.push((Geom::Tris(pack_vertex(&m)), u32::MAX));
+    }
+    let sp: Vec<PackedSphere> = (0..200)
+        .map(|_| PackedSphere::new(rng.vec3(s), s * rng.range(0.005, 0.05)))
+        .collect();
+    local.push(sp.iter().map(|p| Vec3::from(p.center)).collect());
+    geoms.push((Geom::Spheres(sp), u32::MAX));
+    let place = |rng: &mut Rng, g: u32| {
+        let rot = Quat::from_axis_angle(rng.vec3(1.0).normalize_or(Vec3::X), rng.range(-3.2, 3.2));
+        let scale = Vec3::new(
+            rng.range(0.7, 1.3) * if rng.below(4) == 0 { -1.0 } else { 1.0 },
+            rng.range(0.7, 1.3),
+            rng.range(0.7, 1.3),
+        );
+        let transform = if rng.below(3) == 0 {
+            Transform::IDENTITY
+        } else {
+            let a = Affine3A::from_scale_rotation_translation(scale, rot, rng.vec3(0.1 * s));
+            Transform::placing(a).unwrap_or(Transform::IDENTITY)
+        };
+        Place {
+            target: Target::Geoms(vec![g]),
+            transform,
+            mask: if rng.below(4) == 0 { 1 } else { u32::MAX },
+        }
+    };
+    let mut insts: Vec<Place> = (0..6 + rng.below(6))
+        .map(|k| place(&mut rng, (k % 4) as u32))
+        .collect();
+    let group = vec![place(&mut rng, 0), place(&mut rng, 1)];
+    insts.push(Place {
+        target: Target::Group(0),
+        transform: Transform::IDENTITY,
+        mask: u32::MAX,
+    });
+    let mut targets = Vec::new();
+    for i in &insts {
+        if let (Target::Geoms(g), Some(inv)) = (&i.target, inverse_affine(&i.transform)) {
+            let pts = &local[g[0] as usize];
+            targets.extend(pts.iter().step_by(25).map(|p| inv.transform_point3(*p)));
+        }
+    }
+    let mut rays: Vec<Ray> = (0..48)
+        .map(|_| {
+            let origin = rng.vec3(4.0 * s);
+            let target = targets[rng.below(targets.len() as u64) as usize];
+            Ray::new(origin, target - origin)
+        })
+        .collect();
+    rays.extend(testkit::rays::coherent_rays(
+        &mut rng,
+        &targets,
+        Vec3::ZERO,
+        s,
+        4,
+    ));
+    (
+        World {
+            geoms,
+            groups: vec![group],
+            insts,
+            banned: None,
+        },
+        rays,
+    )
+}
+
+/// Overlapping instances of level-spanning meshes are entered by parts (more parts than
+/// instances in the top-level tree), and every query still answers as brute force.
+#[test]
+fn overlapping_instances_are_entered_by_parts() {
+    let mut hits = 0;
+    for seed in 0..6 {
+        let (w, rays) = overlapping_world(seed);
+        let scene = w.scene();
+        let r = scene.as_ref();
+        let parts = r.world().top.ids().iter().filter(|&&k| k != PAD).count();
+        assert!(
+            parts > 2 * w.insts.len(),
+            "seed {seed}: {parts} parts for {} instances: nothing was opened",
+            w.insts.len()
+        );
+        hits += check::<f32x8, f32, Watertight, StableSphere>(&w, r, &rays, &MASKS);
+        hits += check::<f32x16, f32, Watertight, StableSphere>(&w, r, &rays, &MASKS[..1]);
+        // Stored and read back, the parts validate and answer alike.
+        let stored = Stored::of(&scene.parts());
+        let back = SceneRef::<VertexTriangle, PackedSphere>::new(stored.parts()).unwrap();
+        check::<f32x8, f32, Watertight, StableSphere>(&w, back, &rays, &MASKS[..1]);
+    }
+    assert!(hits > 500, "only {hits} hits: the test would not test much");
 }
 
 /// The object → world map of a transform, in f32 (for aiming rays only).
@@ -1259,4 +1369,57 @@ fn transforms_carry_rays_into_object_space() {
     }
     assert!(Transform::placing(Affine3A::from_scale(Vec3::new(1.0, 0.0, 1.0))).is_none());
     assert!(t.condition().unwrap() >= 1.0);
+}
+
+/// A part naming no node of its instance's tree (or a group's instance entered below its root)
+/// is refused, naming the level and the slot.
+#[test]
+fn parts_naming_no_node_are_refused() {
+    let (w, _) = overlapping_world(3);
+    let scene = w.scene();
+    let parts = scene.parts();
+    let words = <octoray::scene::InstanceBox as Primitive>::WORDS;
+    // Word 6 of an instance box is its node (the field after the two corners).
+    fn node_word(s: &mut Stored, words: usize, slot: usize) -> &mut f32 {
+        &mut s.top.1[slot / 8 * words + 6][slot % 8]
+    }
+    let world_slots = scene.as_ref().world().top.ids().len();
+    let ids = &parts.top.ids[..world_slots];
+    let slot = (0..world_slots)
+        .find(|&k| ids[k] != PAD && matches!(w.insts[ids[k] as usize].target, Target::Geoms(_)))
+        .unwrap();
+    let mut s = Stored::of(&parts);
+    *node_word(&mut s, words, slot) = f32::from_bits(1 << 30);
+    assert_eq!(
+        SceneRef::<VertexTriangle, PackedSphere>::new(s.parts()).unwrap_err(),
+        SceneError::BadPart { level: None, slot },
+    );
+    // The world's instance of the group is one part (its root).
+    let slot = (0..world_slots)
+        .find(|&k| ids[k] != PAD && matches!(w.insts[ids[k] as usize].target, Target::Group(_)))
+        .unwrap();
+    let mut s = Stored::of(&parts);
+    *node_word(&mut s, words, slot) = f32::from_bits(1);
+    assert_eq!(
+        SceneRef::<VertexTriangle, PackedSphere>::new(s.parts()).unwrap_err(),
+        SceneError::BadPart { level: None, slot },
+    );
+    // The group's tree follows the world's in the top slices.
+    let group = parts
+        .trees
+        .iter()
+        .position(|t| t.kind() == octoray::scene::INSTANCES)
+        .unwrap();
+    let g_slot = (world_slots..parts.top.ids.len())
+        .find(|&k| parts.top.ids[k] != PAD)
+        .unwrap();
+    let mut s = Stored::of(&parts);
+    *node_word(&mut s, words, g_slot) = f32::from_bits(1 << 30);
+    assert_eq!(
+        SceneRef::<VertexTriangle, PackedSphere>::new(s.parts()).unwrap_err(),
+        SceneError::BadPart {
+            level: Some(group),
+            slot: g_slot - world_slots,
+        },
+    );
 }

@@ -4,7 +4,7 @@
 //! that become ellipsoids), each primitive measured in world space with the same maps.
 #![cfg(all(feature = "triangle", feature = "sphere", feature = "alloc"))]
 
-use super::scene::{pack_vertex, world, Geom, Place, Target, World};
+use super::scene::{overlapping_world, pack_vertex, world, Geom, Place, Target, World};
 use octoray::glam::{Affine3A, Vec3};
 use octoray::kernels::{Nearest, NearestPoint};
 use octoray::prim::{Affine64, PackedSphere, VertexTriangle};
@@ -132,13 +132,19 @@ fn points(rng: &mut Rng, rays: &[octoray::prim::Ray]) -> Vec<Vec3> {
 
 fn case(seed: u64) -> usize {
     let (w, rays) = world(seed, pack_vertex);
+    case_on(seed, &w, &rays)
+}
+
+/// The point queries of world `w` at points near `rays`, checked against brute force; returns
+/// how many closest points were found.
+fn case_on(seed: u64, w: &World<VertexTriangle>, rays: &[octoray::prim::Ray]) -> usize {
     let scene = w.scene();
     let r = scene.as_ref();
     let mut rng = Rng(seed ^ 0x51);
     let mut found = 0;
-    for p in points(&mut rng, &rays) {
+    for p in points(&mut rng, rays) {
         for (mask, radius) in [(!0, f32::INFINITY), (1, f32::INFINITY), (!0, 0.5)] {
-            let want = brute_closest(&w, p, radius, mask);
+            let want = brute_closest(w, p, radius, mask);
             let got = r.closest_point(p, radius, mask);
             assert_eq!(
                 got,
@@ -146,7 +152,7 @@ fn case(seed: u64) -> usize {
                 "seed {seed}: {p} mask {mask}"
             );
             found += got.is_some() as usize;
-            let all = brute(&w, p, radius, mask);
+            let all = brute(w, p, radius, mask);
             for k in [1, 4] {
                 let mut out = vec![PointHit::default(); k];
                 let f = r.nearest_within(p, radius, mask, &mut out);
@@ -178,6 +184,18 @@ fn many_scene_points_are_found() {
         found > 300,
         "only {found} answers: the suite would not test much"
     );
+}
+
+/// Overlapping instances entered by parts (partial re-braiding) answer as brute force.
+#[test]
+fn overlapping_instances_answer_as_brute_force() {
+    let found: usize = (0..4)
+        .map(|seed| {
+            let (w, rays) = overlapping_world(seed);
+            case_on(seed, &w, &rays)
+        })
+        .sum();
+    assert!(found > 60, "only {found} answers");
 }
 
 /// A sphere squashed into an ellipsoid by its instance, and a triangle mesh moved and scaled:

@@ -106,10 +106,10 @@ fn the_entry_bound_counts_every_entry_and_validation_enforces_it() {
 /// by level does not, and is refused before any ray is traced.
 #[test]
 fn the_default_budget_refuses_small_scenes_with_exponential_work() {
-    // 64 copies per level: 16 843 009 entries per ray from 87 KB.
+    // 64 copies per level: 16 843 009 entries per ray from 97 KB.
     let deep = chain(64, Transform::IDENTITY);
     let words = deep.as_ref().to_words();
-    assert!(words.len() < 24_000, "{} words", words.len());
+    assert!(words.len() < 25_000, "{} words", words.len());
     let budget = deep.parts().words();
     assert_eq!(
         R::from_words(&words).err(),

@@ -18,8 +18,10 @@ mod sphere;
 #[cfg(feature = "triangle")]
 mod triangle;
 
+pub(crate) use affine::invert3;
+#[cfg(feature = "sphere")]
+pub(crate) use affine::symmetric_eigen;
 pub use affine::Affine64;
-pub(crate) use affine::{invert3, symmetric_eigen};
 pub use ray::{Ray, RayLanes};
 #[cfg(feature = "sphere")]
 pub use sphere::{PackedSphere, Sphere, SphereLanes};

@@ -1,12 +1,13 @@
 //! The owned scene: geometries added one by one, instances placing sets of them, the trees and
 //! the top level built on [`Scene::commit`].
 
+use super::braid::{open_parts, Part};
 use super::{
     Geometry, Instance, InstanceBox, Level, Member, SceneParts, SceneRef, SceneTree, Transform,
     TreeParts, INSTANCES, MAX_INSTANCE_LEVELS, SPHERES, TRIANGLES,
 };
 use crate::bvh::{
-    refit_parts, BuildOptions, Bvh8, Bvh8Node, Bvh8Ref, BvhError, Join, Sequential, SLACK,
+    refit_parts, BuildOptions, Bvh8, Bvh8Node, Bvh8Ref, BvhError, Join, Sequential, PAD, SLACK,
 };
 use crate::prim::{Aabb, Primitive, BLOCK};
 use alloc::vec::Vec;
@@ -26,6 +27,18 @@ impl Trees {
         self.nodes.extend_from_slice(&nodes);
         self.blocks.extend_from_slice(&blocks);
         self.ids.extend_from_slice(&ids);
+    }
+
+    /// Appends a level's tree, its ids turned from parts into the level's instances.
+    fn put_level(&mut self, level: &mut BuiltLevel) {
+        let tree = core::mem::replace(&mut level.tree, Bvh8::build(&[]));
+        let at = self.ids.len();
+        self.put(tree);
+        for id in &mut self.ids[at..] {
+            if *id != PAD {
+                *id = level.part_of[*id as usize];
+            }
+        }
     }
 
     fn parts(&self) -> TreeParts<'_> {
@@ -75,7 +88,10 @@ enum Extent {
 /// One level of instances, built ([`Scene::commit_on`]).
 struct BuiltLevel {
     instances: Vec<Instance>,
+    /// The tree over the instances' parts ([`open_parts`]); its ids number the parts.
     tree: Bvh8<InstanceBox>,
+    /// Each part's position in `instances`.
+    part_of: Vec<u32>,
     /// Positions in `instances`.
     unbounded: Vec<u32>,
     levels: u32,
@@ -679,22 +695,22 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
             extents.push(level.extent);
             built.push(level);
         }
-        let world = self.build_level(&self.world, geo, &records, &extents, join)?;
+        let mut world = self.build_level(&self.world, geo, &records, &extents, join)?;
         let mut top = Trees::default();
         self.origin_slack = world.slack;
         self.world_unbounded = world.unbounded.len();
+        top.put_level(&mut world);
         let mut instances = world.instances;
         let mut unbounded = world.unbounded;
-        top.put(world.tree);
         self.world_top = (top.nodes.len(), top.ids.len() / BLOCK);
-        for (g, level) in built.into_iter().enumerate() {
+        for (g, mut level) in built.into_iter().enumerate() {
             let r = &mut records[geo + g];
             r.first_node = index(top.nodes.len())?;
             r.first_block = index(top.ids.len() / BLOCK)?;
             r.first_member = index(instances.len())?;
             r.first_unbounded = index(unbounded.len())?;
             let first = r.first_member;
-            top.put(level.tree);
+            top.put_level(&mut level);
             let r = &mut records[geo + g];
             r.nodes = index(top.nodes.len())? - r.first_node;
             r.blocks = index(top.ids.len() / BLOCK)? - r.first_block;
@@ -732,6 +748,7 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
         let mut out = BuiltLevel {
             instances: Vec::with_capacity(placements.len()),
             tree: Bvh8::build(&[]),
+            part_of: Vec::new(),
             unbounded: Vec::new(),
             levels: 0,
             paths: 0,
@@ -739,7 +756,7 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
             slack: SLACK,
             extent: Extent::Empty,
         };
-        let mut boxes = Vec::with_capacity(placements.len());
+        let mut parts = Vec::with_capacity(placements.len());
         for (k, p) in placements.iter().enumerate() {
             let t = match p.target {
                 Target::Set(s) => s as usize,
@@ -771,8 +788,13 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
                 (Extent::Box(a), Some(w), _) => Extent::Box(a.union(w)),
                 (e, None, Extent::Empty) => e,
             };
-            let w = placed.unwrap_or(Aabb::EMPTY);
-            boxes.push(InstanceBox { lo: w.lo, hi: w.hi });
+            if let Some(world) = placed {
+                parts.push(Part {
+                    k: index(k)?,
+                    world,
+                    node: 0,
+                });
+            }
             out.instances.push(Instance {
                 transform: p.transform,
                 tree: index(t)?,
@@ -786,13 +808,37 @@ impl<T: Primitive + Sync, S: Primitive + Sync> Scene<T, S> {
             out.levels = out.levels.max(child.levels);
             out.mask |= p.mask;
         }
+        open_parts(&mut parts, |k| {
+            let p = &placements[k as usize];
+            let Target::Set(t) = p.target else {
+                return None;
+            };
+            let r = &records[t as usize];
+            let nodes = &self.kinds[r.kind as usize].nodes;
+            let first = r.first_node as usize;
+            Some((
+                &nodes[first..first + r.nodes as usize],
+                &p.transform,
+                r.slack,
+            ))
+        });
+        let boxes: Vec<InstanceBox> = parts
+            .iter()
+            .map(|p| InstanceBox {
+                lo: p.world.lo,
+                hi: p.world.hi,
+                node: p.node,
+            })
+            .collect();
         out.tree = Bvh8::try_build_on(&boxes, join)?;
+        out.part_of = parts.iter().map(|p| p.k).collect();
         out.slack = super::origin_slack(&out.instances, records);
         Ok(out)
     }
 
     /// Builds the trees of the sets no tree holds yet, then each group's tree and the world's
-    /// top level over their instances' boxes ([`Transform::world_box_within`]); the instances
+    /// top level over their instances' boxes ([`Transform::world_box_within`]), overlapping
+    /// instances of trees that span much of their level entered by parts ([`InstanceBox`]); the instances
     /// without one (nearly singular, boxes that reach infinity, groups holding such) go on their
     /// level's unbounded list (every ray reaching the level visits them), those of empty trees
     /// nowhere.

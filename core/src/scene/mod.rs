@@ -53,6 +53,12 @@
 //! singular) or whose box is not finite is not in its level's tree: every ray that reaches the
 //! level visits it.
 //!
+//! The commit enters overlapping, level-spanning instances by parts ([`InstanceBox`]): the
+//! subtrees below their top nodes, each with its own conservative world box, so the level's
+//! tree orders and culls them among the other instances' (partial re-braiding) instead of
+//! walking each whole tree in turn. The parts of an instance cover its tree once; the answer is
+//! unchanged.
+//!
 //! # Untrusted scenes
 //! [`SceneRef::new`] takes any slices: it answers `Ok` or a [`SceneError`], never panics, in time
 //! linear in their total length and without an allocator. On a scene it accepts, every query is
@@ -80,6 +86,8 @@
 //! the budget, so validation stays linear in the scene's length plus the budget. A scene
 //! [`Scene`] built is not validated (its entry bound is what its instances make it).
 
+#[cfg(feature = "alloc")]
+mod braid;
 #[cfg(feature = "alloc")]
 mod build;
 mod store;
@@ -212,7 +220,13 @@ pub struct Instance {
     pub path: u32,
 }
 
-/// The top-level tree's primitive: an instance's world box ([`Transform::world_box`]).
+/// The top-level tree's primitive: the world box ([`Transform::world_box_within`]) of a part of
+/// an instance's tree, and the node that part starts at.
+///
+/// A part is the whole tree (`node` 0: its root) or a subtree the commit opened out of it: an
+/// instance whose tree spans much of its level is entered by its parts, so that the level's
+/// tree orders and culls them among the other instances' (partial re-braiding). The parts of
+/// one instance cover its tree once; a group's instance is one part (`node` 0).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct InstanceBox {
@@ -220,6 +234,8 @@ pub struct InstanceBox {
     pub lo: [f32; 3],
     /// Largest corner.
     pub hi: [f32; 3],
+    /// The node of the instance's tree the part starts at.
+    pub node: u32,
 }
 
 impl Primitive for InstanceBox {
@@ -265,7 +281,8 @@ pub struct SceneParts<'a> {
     pub members: &'a [Member],
     /// The instances.
     pub instances: &'a [Instance],
-    /// The top-level tree over [`InstanceBox`]es (its ids are instance indices).
+    /// The top-level tree over [`InstanceBox`]es, the parts of the instances (its ids are
+    /// instance indices).
     pub top: TreeParts<'a>,
     /// Instances that are not in the top-level tree (every ray visits them).
     pub unbounded: &'a [u32],
@@ -318,6 +335,14 @@ pub enum SceneError {
     },
     /// The top-level tree is not valid.
     Top(BvhError),
+    /// A slot of a level's tree holds a part ([`InstanceBox::node`]) that is no node of its
+    /// instance's tree (a group's instance: not its root).
+    BadPart {
+        /// The group's tree, or `None` for the world's level.
+        level: Option<usize>,
+        /// The slot.
+        slot: usize,
+    },
     /// An unbounded entry names an instance that does not exist.
     BadUnbounded {
         /// Its position in the list.
@@ -354,6 +379,16 @@ impl core::fmt::Display for SceneError {
             }
             SceneError::BadGroup { tree } => write!(f, "group {tree} is not valid"),
             SceneError::Top(e) => write!(f, "top-level tree: {e}"),
+            SceneError::BadPart { level, slot } => match level {
+                Some(g) => write!(
+                    f,
+                    "group {g}'s tree: slot {slot} names no node of its instance"
+                ),
+                None => write!(
+                    f,
+                    "top-level tree: slot {slot} names no node of its instance"
+                ),
+            },
             SceneError::BadUnbounded { at } => {
                 write!(
                     f,
@@ -390,7 +425,8 @@ fn origin_slack(instances: &[Instance], trees: &[SceneTree]) -> f32 {
 /// and those outside it.
 #[derive(Clone, Copy, Debug)]
 pub struct Level<'a> {
-    /// The tree over its bounded instances' boxes (its ids count from `first`).
+    /// The tree over its bounded instances' parts ([`InstanceBox`]; its ids count from
+    /// `first`).
     pub top: Bvh8Ref<'a, InstanceBox>,
     /// Its first instance in the scene's list.
     pub first: u32,
@@ -403,6 +439,23 @@ pub struct Level<'a> {
     /// The OR of its instances' masks (the world's: all ones): a ray sharing no bit with it
     /// finds nothing in the level.
     pub mask: u32,
+}
+
+impl Level<'_> {
+    /// The part in slot `k` of the level's tree ([`InstanceBox`]): its instance (an index of the
+    /// scene's list) and the node of the instance's tree it starts at; `None` on padding.
+    ///
+    /// # Panics
+    /// When `k` is not a slot of the tree.
+    #[inline(always)]
+    pub fn part(&self, k: usize) -> Option<(u32, u32)> {
+        let id = self.top.ids()[k];
+        if id == PAD {
+            return None;
+        }
+        let part = InstanceBox::from_block(self.top.block_of(k), k % BLOCK);
+        Some((self.first.wrapping_add(id), part.node))
+    }
 }
 
 /// One tree of a scene, by kind, with its members.
@@ -484,7 +537,8 @@ impl<'a, T: Primitive, S: Primitive> SceneRef<'a, T, S> {
     /// together covering their kind's slices exactly), each tree's members, each group's
     /// instances (placing trees before the group, their paths, levels, mask and slack as they
     /// make them), every instance's tree in range, the world's top-level tree over its
-    /// instances, the unbounded lists in range; and the work per ray, within the default
+    /// instances, every part's node in its instance's tree ([`InstanceBox::node`]), the
+    /// unbounded lists in range; and the work per ray, within the default
     /// budget of [`SceneParts::words`] instance entries (see the module's "Work per ray").
     ///
     /// # Errors

@@ -4,8 +4,8 @@ use super::{Geometry, Instance, Member, SceneError, SceneParts, SceneRef, SceneT
 use crate::bvh::Bvh8Node;
 use crate::prim::{Primitive, BLOCK};
 
-/// The first word ("o8s4").
-const MAGIC: u32 = u32::from_le_bytes(*b"o8s4");
+/// The first word ("o8s5").
+const MAGIC: u32 = u32::from_le_bytes(*b"o8s5");
 /// Sections, in order: the triangle trees' nodes, blocks, ids; the sphere trees' nodes,
 /// blocks, ids; geometries, trees, members, instances; the top tree's nodes, blocks, ids; the
 /// unbounded instances.

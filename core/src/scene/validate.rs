@@ -137,6 +137,7 @@ impl<'a> World<'a> {
         let t = &self.top;
         let top = Bvh8Ref::<InstanceBox>::new(t.nodes, t.blocks, t.ids, self.roots)
             .map_err(SceneError::Top)?;
+        check_parts(parts, top, instances, None)?;
         let unbounded = &parts.unbounded[..self.unbounded];
         if let Some(at) = unbounded.iter().position(|&i| i as usize >= self.roots) {
             return Err(SceneError::BadUnbounded { at });
@@ -180,6 +181,17 @@ fn check_tree<T: Primitive, S: Primitive>(
         _ => Bvh8Ref::<InstanceBox>::new(sub.nodes, sub.blocks, sub.ids, prims).map(drop),
     }
     .map_err(err)?;
+    if g.kind == INSTANCES {
+        // Checked above; its instances' range is checked with the group.
+        let top = Bvh8Ref::<InstanceBox>::trusted(sub.nodes, sub.blocks, sub.ids, g.prims);
+        let first = g.first_member as usize;
+        let bad = SceneError::BadGroup { tree: i };
+        let instances = first
+            .checked_add(prims)
+            .and_then(|end| parts.instances.get(first..end))
+            .ok_or(bad)?;
+        check_parts(parts, top, instances, Some(i))?;
+    }
     *next = g
         .first_node
         .checked_add(g.nodes)
@@ -190,6 +202,34 @@ fn check_tree<T: Primitive, S: Primitive>(
     } else {
         check_members(parts, i, &mut at.member)
     }
+}
+
+/// Checks each part in a level's tree `top` over `instances`: its node is one of its instance's
+/// tree (a group's instance: the root), so that a walk entering the part walks a subtree of
+/// that tree. Instances naming no tree are left to the instance checks.
+fn check_parts(
+    parts: &SceneParts<'_>,
+    top: Bvh8Ref<'_, InstanceBox>,
+    instances: &[crate::scene::Instance],
+    level: Option<usize>,
+) -> Result<(), SceneError> {
+    for (slot, &id) in top.ids().iter().enumerate() {
+        if id == crate::bvh::PAD {
+            continue;
+        }
+        let node = InstanceBox::from_block(top.block_of(slot), slot % BLOCK).node;
+        let tree = instances
+            .get(id as usize)
+            .and_then(|i| parts.trees.get(i.tree as usize));
+        let ok = match tree {
+            Some(t) if t.kind != INSTANCES => node == 0 || node < t.nodes,
+            _ => node == 0,
+        };
+        if !ok {
+            return Err(SceneError::BadPart { level, slot });
+        }
+    }
+    Ok(())
 }
 
 /// Checks geometry tree `i`'s members: the next ones in the list, geometries of its kind in

@@ -64,11 +64,12 @@ impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS
         }
     }
 
-    /// One ray (in this level's space) through instance `inst`.
+    /// One ray (in this level's space) through the part of instance `inst` that starts at
+    /// `node` of its tree.
     #[inline(always)]
     fn single_instance<F: HitFilter, const ANY: bool>(
         &self,
-        inst: u32,
+        (inst, node): (u32, u32),
         world: &Ray,
         best: &mut Option<Best<L::Scalar>>,
         filter: &mut F,
@@ -82,6 +83,7 @@ impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS
             Entered::Tree(tree, place) => visit::<L, KT, KS, _>(
                 tree,
                 place,
+                node,
                 SingleWalk::<L, F, ANY> {
                     ray: &ray,
                     best,
@@ -141,18 +143,19 @@ impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS
             return true;
         }
         for &inst in self.level.unbounded {
-            if self.single_instance::<F, ANY>(inst, ray, best, filter, ray_id) && ANY {
+            if self.single_instance::<F, ANY>((inst, 0), ray, best, filter, ray_id) && ANY {
                 return true;
             }
         }
         false
     }
 
-    /// The lanes `live` of a packet (in this level's space) through instance `inst`.
+    /// The lanes `live` of a packet (in this level's space) through the part of instance `inst`
+    /// that starts at `node` of its tree.
     #[inline(always)]
     fn packet_instance<F: HitFilter, const ANY: bool>(
         &self,
-        inst: u32,
+        (inst, node): (u32, u32),
         world: &RayLanes<L>,
         live: L::Mask,
         best: &mut PacketBest<L>,
@@ -181,6 +184,7 @@ impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS
             Entered::Tree(tree, place) => visit::<L, KT, KS, _>(
                 tree,
                 place,
+                node,
                 PacketWalk::<L, F, ANY> {
                     rays: &rays,
                     best,
@@ -226,6 +230,7 @@ impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS
             &(),
             rays,
             &br,
+            0,
             best,
             filter,
             ray_base,
@@ -235,38 +240,40 @@ impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS
             if live.none() {
                 break;
             }
-            self.packet_instance::<F, ANY>(inst, rays, live, best, filter, ray_base);
+            self.packet_instance::<F, ANY>((inst, 0), rays, live, best, filter, ray_base);
         }
     }
 }
 
-/// A walk of one instance's tree from its root, at the kernel of the tree's kind and with or
+/// A walk of one instance's tree from one of its nodes, at the kernel of the tree's kind and with or
 /// without the per-hit member lookup of a tree of several geometries ([`visit`] picks them).
 trait TreeWalk<L: Lanes> {
     /// What the walk answers.
     type Out;
-    /// Walks `bvh`, its hits reported as `place` says.
+    /// Walks `bvh` from `node`, its hits reported as `place` says.
     fn walk<K: Kernel<L>, const MANY: bool>(
         self,
         bvh: Bvh8Ref<'_, K::Prim>,
         place: (u32, u32, Members<'_>),
+        node: u32,
     ) -> Self::Out;
 }
 
-/// `w` through `tree`: triangles with `KT`, spheres with `KS`, the member lookup only in a tree
-/// of several geometries.
+/// `w` through `tree` from `node`: triangles with `KT`, spheres with `KS`, the member lookup
+/// only in a tree of several geometries.
 #[inline(always)]
 fn visit<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, W: TreeWalk<L>>(
     tree: Geometries<'_, KT::Prim, KS::Prim>,
     place: (u32, u32, Members<'_>),
+    node: u32,
     w: W,
 ) -> W::Out {
     let many = !place.2.members.is_empty();
     match (tree, many) {
-        (Geometries::Triangles(b), false) => w.walk::<KT, false>(b, place),
-        (Geometries::Triangles(b), true) => w.walk::<KT, true>(b, place),
-        (Geometries::Spheres(b), false) => w.walk::<KS, false>(b, place),
-        (Geometries::Spheres(b), true) => w.walk::<KS, true>(b, place),
+        (Geometries::Triangles(b), false) => w.walk::<KT, false>(b, place, node),
+        (Geometries::Triangles(b), true) => w.walk::<KT, true>(b, place, node),
+        (Geometries::Spheres(b), false) => w.walk::<KS, false>(b, place, node),
+        (Geometries::Spheres(b), true) => w.walk::<KS, true>(b, place, node),
     }
 }
 
@@ -285,8 +292,17 @@ impl<L: Lanes, F: HitFilter, const ANY: bool> TreeWalk<L> for SingleWalk<'_, L, 
         self,
         bvh: Bvh8Ref<'_, K::Prim>,
         place: (u32, u32, Members<'_>),
+        node: u32,
     ) -> bool {
-        run_single::<L, K, F, ANY, MANY>(bvh, place, self.ray, self.best, self.filter, self.ray_id)
+        run_single::<L, K, F, ANY, MANY>(
+            bvh,
+            place,
+            node,
+            self.ray,
+            self.best,
+            self.filter,
+            self.ray_id,
+        )
     }
 }
 
@@ -305,10 +321,12 @@ impl<L: Lanes, F: HitFilter, const ANY: bool> TreeWalk<L> for PacketWalk<'_, L, 
         self,
         bvh: Bvh8Ref<'_, K::Prim>,
         place: (u32, u32, Members<'_>),
+        node: u32,
     ) {
         run_packet::<L, K, F, ANY, MANY>(
             bvh,
             place,
+            node,
             self.rays,
             self.best,
             self.filter,
@@ -335,10 +353,11 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Leaf<L> for Instances<'_, '_, L, KT
         ray_id: u32,
     ) -> bool {
         let world = rl.ray(0);
-        let ids = self.level.top.ids();
-        for &k in &ids[first..first + count] {
-            let inst = self.level.first + k;
-            if self.single_instance::<F, ANY>(inst, &world, best, filter, ray_id) && ANY {
+        for slot in first..first + count {
+            let Some(part) = self.level.part(slot) else {
+                continue;
+            };
+            if self.single_instance::<F, ANY>(part, &world, best, filter, ray_id) && ANY {
                 return true;
             }
         }
@@ -357,14 +376,15 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Leaf<L> for Instances<'_, '_, L, KT
         filter: &mut F,
         ray_base: u32,
     ) {
-        let ids = self.level.top.ids();
-        for &k in &ids[first..first + count] {
-            let inst = self.level.first + k;
+        for slot in first..first + count {
+            let Some(part) = self.level.part(slot) else {
+                continue;
+            };
             let live = if ANY { live & !best.mask } else { live };
             if live.none() {
                 return;
             }
-            self.packet_instance::<F, ANY>(inst, rays, live, best, filter, ray_base);
+            self.packet_instance::<F, ANY>(part, rays, live, best, filter, ray_base);
         }
     }
 }
@@ -460,7 +480,7 @@ fn walk_single<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: 
     let any = if scene.world().instances.len() == 1 {
         // One world instance (a renderer's static world): no top level to walk; its tree's
         // root test is the only box test it needs.
-        leaf.single_instance::<F, ANY>(0, ray, &mut best, filter, ray_id)
+        leaf.single_instance::<F, ANY>((0, 0), ray, &mut best, filter, ray_id)
     } else {
         leaf.single_level::<F, ANY>(ray, &mut best, filter, ray_id)
     };
@@ -516,7 +536,7 @@ fn walk_packet<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: 
     let leaf = Instances::<L, KT, KS>::world(scene, mask);
     if scene.world().instances.len() == 1 {
         // As in `scene_single`.
-        leaf.packet_instance::<F, ANY>(0, rays, rays.active, best, filter, ray_base);
+        leaf.packet_instance::<F, ANY>((0, 0), rays, rays.active, best, filter, ray_base);
     } else {
         leaf.packet_level::<F, ANY>(rays, best, filter, ray_base);
     }

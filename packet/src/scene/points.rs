@@ -124,14 +124,15 @@ struct LevelLeaves<'s, 'a, 'k, T, S, K> {
 impl<T: NearestPoint, S: NearestPoint, K: Sink> LevelLeaves<'_, '_, '_, T, S, K> {
     /// The level's tree, then its unbounded instances.
     fn walk(&mut self) {
-        point_walk(self.level.top.nodes(), self);
+        point_walk(self.level.top.nodes(), 0, self);
         for &inst in self.level.unbounded {
-            self.instance(inst);
+            self.instance((inst, 0));
         }
     }
 
-    /// Instance `inst` of the level, when the masks admit it and its map is invertible.
-    fn instance(&mut self, inst: u32) {
+    /// The part of instance `inst` of the level that starts at `node` of its tree, when the
+    /// masks admit it and its map is invertible.
+    fn instance(&mut self, (inst, node): (u32, u32)) {
         let Some((i, entered)) = enter(self.scene, self.mask, self.path, inst) else {
             return;
         };
@@ -139,8 +140,8 @@ impl<T: NearestPoint, S: NearestPoint, K: Sink> LevelLeaves<'_, '_, '_, T, S, K>
             return;
         };
         match entered {
-            Entered::Tree(Geometries::Triangles(b), place) => self.tree(b, place, &space),
-            Entered::Tree(Geometries::Spheres(b), place) => self.tree(b, place, &space),
+            Entered::Tree(Geometries::Triangles(b), place) => self.tree(b, place, node, &space),
+            Entered::Tree(Geometries::Spheres(b), place) => self.tree(b, place, node, &space),
             Entered::Group(level, mask, path) => LevelLeaves {
                 scene: self.scene,
                 level,
@@ -154,11 +155,12 @@ impl<T: NearestPoint, S: NearestPoint, K: Sink> LevelLeaves<'_, '_, '_, T, S, K>
         }
     }
 
-    /// An instance's tree `bvh` in `space`.
+    /// An instance's tree `bvh` from `node`, in `space`.
     fn tree<P: NearestPoint>(
         &mut self,
         bvh: Bvh8Ref<'_, P>,
         (geom, path, members): (u32, u32, Members<'_>),
+        node: u32,
         space: &Space,
     ) {
         let mut placed = Placed {
@@ -176,7 +178,7 @@ impl<T: NearestPoint, S: NearestPoint, K: Sink> LevelLeaves<'_, '_, '_, T, S, K>
             to_world: (!identity).then_some(&space.to_world),
             sink: &mut placed,
         };
-        point_walk(bvh.nodes(), &mut leaves);
+        point_walk(bvh.nodes(), node, &mut leaves);
     }
 }
 
@@ -190,10 +192,11 @@ impl<T: NearestPoint, S: NearestPoint, K: Sink> PointLeaves for LevelLeaves<'_, 
     }
 
     fn leaf(&mut self, first: u32, count: u32) {
-        let ids = self.level.top.ids();
         let (first, count) = (first as usize, count as usize);
-        for &k in ids.iter().skip(first).take(count) {
-            self.instance(self.level.first + k);
+        for slot in first..first + count {
+            if let Some(part) = self.level.part(slot) {
+                self.instance(part);
+            }
         }
     }
 }

@@ -55,7 +55,7 @@ fn largest<L: Lanes>(x: L, m: L::Mask) -> f32 {
     extreme_lane(x, m, true)
 }
 
-/// A packet (`br` prepared from `rays`) down the tree of `nodes` from the root, its leaves
+/// A packet (`br` prepared from `rays`) down the tree of `nodes` from node `start` (0: the root), its leaves
 /// handled by `leaf`; `best` carries the hits so far in and the best ones out. `ANY` stops
 /// lanes at their first hit.
 #[allow(clippy::too_many_arguments)] // the walk's state
@@ -66,6 +66,7 @@ pub(crate) fn packet_walk<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
     pre: &T::Pre,
     rays: &RayLanes<L>,
     br: &BoxRay<L>,
+    start: u32,
     best: &mut PacketBest<L>,
     filter: &mut F,
     ray_base: u32,
@@ -80,7 +81,7 @@ pub(crate) fn packet_walk<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
     let nan = L::splat(f32::NAN);
     let mut stack = ArrayVec::<Entry<L>, STACK>::new();
     stack.push(Entry {
-        child: 0,
+        child: start,
         count: 0,
         near: L::select(br.valid, L::splat(f32::NEG_INFINITY), nan),
     });
@@ -247,6 +248,7 @@ pub(crate) fn run_packet<
 >(
     bvh: Bvh8Ref<'_, K::Prim>,
     (geom, inst, members): (u32, u32, Members<'_>),
+    node: u32,
     rays: &RayLanes<L>,
     best: &mut PacketBest<L>,
     filter: &mut F,
@@ -271,6 +273,7 @@ pub(crate) fn run_packet<
         &leaf.prepare(rays),
         rays,
         &br,
+        node,
         best,
         filter,
         ray_base,

@@ -278,7 +278,7 @@ fn walk<P: NearestPoint>(bvh: Bvh8Ref<'_, P>, point: Vec3, sink: &mut impl Sink)
         to_world: None,
         sink,
     };
-    point_walk(bvh.nodes(), &mut leaves);
+    point_walk(bvh.nodes(), 0, &mut leaves);
 }
 
 /// What a point walk does at one tree's leaves, and where it stands.
@@ -342,16 +342,16 @@ impl<P: NearestPoint, S: Sink> PointLeaves for PrimLeaves<'_, '_, P, S> {
     }
 }
 
-/// The walk of a tree of `nodes`: boxes near enough for `leaves`, nearest child next, every
-/// near leaf visited.
-pub(crate) fn point_walk(nodes: &[Bvh8Node], leaves: &mut impl PointLeaves) {
+/// The walk of a tree of `nodes` from node `start` (0: the root): boxes near enough for
+/// `leaves`, nearest child next, every near leaf visited.
+pub(crate) fn point_walk(nodes: &[Bvh8Node], start: u32, leaves: &mut impl PointLeaves) {
     if nodes.is_empty() {
         return;
     }
     let q = leaves.point();
     let mut stack = ArrayVec::<Entry, STACK>::new();
     stack.push(Entry {
-        child: 0,
+        child: start,
         count: 0,
         d2: 0.0,
     });

@@ -23,6 +23,7 @@ fn single<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
     let any = run_single::<L, K, F, ANY, false>(
         bvh,
         (0, 0, Members::ONE),
+        0,
         ray,
         &mut best,
         filter,
@@ -72,7 +73,15 @@ fn packet<L: Lanes, K: Kernel<L>, F: HitFilter, const ANY: bool>(
     ray_base: u32,
 ) -> PacketBest<L> {
     let mut best = PacketBest::new(rays.t_max);
-    run_packet::<L, K, F, ANY, false>(bvh, (0, 0, Members::ONE), rays, &mut best, filter, ray_base);
+    run_packet::<L, K, F, ANY, false>(
+        bvh,
+        (0, 0, Members::ONE),
+        0,
+        rays,
+        &mut best,
+        filter,
+        ray_base,
+    );
     best
 }
 

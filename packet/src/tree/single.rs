@@ -208,7 +208,7 @@ pub(crate) fn trace_single_outlined<L: Lanes, T: Leaf<L>, F: HitFilter, const AN
 }
 
 /// One ray through geometry `bvh` (hits reported as geometry `geom` of instance `inst`) from
-/// the root, `best` carried in and out: prepares the ray for [`trace_single`].
+/// node `node` (0: the root), `best` carried in and out: prepares the ray for [`trace_single`].
 #[allow(clippy::too_many_arguments)] // the walk's state
 #[inline(always)]
 pub(crate) fn run_single<
@@ -220,6 +220,7 @@ pub(crate) fn run_single<
 >(
     bvh: Bvh8Ref<'_, K::Prim>,
     (geom, inst, members): (u32, u32, Members<'_>),
+    node: u32,
     ray: &Ray,
     best: &mut Option<Best<L::Scalar>>,
     filter: &mut F,
@@ -245,7 +246,7 @@ pub(crate) fn run_single<
         &leaf.prepare(&rl),
         &rl,
         &br,
-        (0, 0),
+        (node, 0),
         best,
         filter,
         ray_id,
