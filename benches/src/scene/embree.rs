@@ -219,7 +219,8 @@ pub struct EmbreeScene {
     api: &'static Api,
     device: Device,
     scene: Scene,
-    mesh: Option<Scene>,
+    /// The scenes its instances place.
+    inner: Vec<Scene>,
 }
 
 impl Drop for EmbreeScene {
@@ -227,7 +228,7 @@ impl Drop for EmbreeScene {
         // SAFETY: handles created by this library and released once.
         unsafe {
             (self.api.release_scene)(self.scene);
-            if let Some(m) = self.mesh {
+            for &m in &self.inner {
                 (self.api.release_scene)(m);
             }
             (self.api.release_device)(self.device);
@@ -298,7 +299,7 @@ impl EmbreeScene {
                 api,
                 device,
                 scene,
-                mesh: None,
+                inner: Vec::new(),
             },
             built,
         ))
@@ -316,7 +317,7 @@ impl EmbreeScene {
             api,
             device,
             scene,
-            mesh: None,
+            inner: Vec::new(),
         })
     }
 
@@ -361,7 +362,53 @@ impl EmbreeScene {
                     api,
                     device,
                     scene,
-                    mesh: Some(inner),
+                    inner: vec![inner],
+                },
+                built + start.elapsed(),
+            ))
+        }
+    }
+
+    /// Each of `meshes` in a scene of its own, placed once by an identity instance (a renderer's
+    /// meshes as instances); the commits' wall time.
+    pub fn build_meshes_instanced(
+        meshes: &[&[[Vec3; 3]]],
+        robust: bool,
+    ) -> Result<(Self, Duration), String> {
+        let api = API.get_or_init(Api::load).as_ref().map_err(Clone::clone)?;
+        let device = Self::device(api)?;
+        let identity = glam::Affine3A::IDENTITY.to_cols_array();
+        // SAFETY: as `build_instanced`, one committed mesh scene per instance geometry.
+        unsafe {
+            let flags = if robust { SCENE_FLAG_ROBUST } else { 0 };
+            let scene = (api.new_scene)(device);
+            (api.set_scene_flags)(scene, flags);
+            let mut inner = Vec::with_capacity(meshes.len());
+            let mut built = Duration::ZERO;
+            for mesh in meshes {
+                let (m, t) = Self::mesh_scene(api, device, mesh, flags);
+                built += t;
+                let geom = (api.new_geometry)(device, GEOMETRY_INSTANCE);
+                (api.set_instanced_scene)(geom, m);
+                (api.set_transform)(
+                    geom,
+                    0,
+                    FORMAT_FLOAT3X4_COLUMN_MAJOR,
+                    identity.as_ptr() as *const c_void,
+                );
+                (api.commit_geometry)(geom);
+                (api.attach_geometry)(scene, geom);
+                (api.release_geometry)(geom);
+                inner.push(m);
+            }
+            let start = Instant::now();
+            (api.commit_scene)(scene);
+            Ok((
+                Self {
+                    api,
+                    device,
+                    scene,
+                    inner,
                 },
                 built + start.elapsed(),
             ))

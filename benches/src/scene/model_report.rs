@@ -3,12 +3,15 @@
 //! rebuild and an animation refitted frame by frame, alpha-tested leaves through a filter
 //! against the restart loop. Measured into a [`ModelReport`], then written.
 
+use super::embree::EmbreeScene;
 use super::instancing::{
     alpha, restart_closest, scene_of, scene_packets_closest, scene_singles_any,
     scene_singles_closest, wave, Layout,
 };
+use super::row::{Query, Traversal};
 use super::sets::{packets_closest, singles_any, singles_closest, SceneSet};
 use super::timing::{alternating, best, rate};
+use super::trace::Traces;
 use octoray::bvh::Bvh8;
 use octoray::kernels::Watertight;
 use octoray::lanes::LaneMask;
@@ -18,12 +21,15 @@ use std::fmt::Write as _;
 use wide::f32x8;
 
 /// One row of the layouts table: Mrays/s through one tree, a scene of one geometry, a scene of
-/// its meshes in one tree, and its meshes as instances.
+/// its meshes in one tree, and its meshes as instances; Embree 3 robust on one tree and on its
+/// meshes as instances.
 pub struct LayoutRow {
     /// Rays, query and traversal.
     pub label: [&'static str; 3],
     /// Mrays/s per layout, in that order.
     pub mrays: [f64; 4],
+    /// Embree's Mrays/s: one tree, the meshes as instances (timed in alternation).
+    pub embree: Option<[f64; 2]>,
 }
 
 /// An animation frame: Mrays/s on the refitted and on a rebuilt tree, primary and bounce.
@@ -46,6 +52,8 @@ pub struct ModelReport {
     pub runs: usize,
     /// The layouts table.
     pub layouts: Vec<LayoutRow>,
+    /// Why Embree's columns are missing, if they are.
+    pub embree_skipped: Option<String>,
     /// Refit one thread, all threads, and a rebuild: seconds.
     pub refit: [f64; 3],
     /// The animation.
@@ -58,13 +66,40 @@ pub struct ModelReport {
 /// A closure tracing a slice of rays, returning its hit count.
 type Trace<'a> = Box<dyn Fn(&[Ray]) -> u64 + 'a>;
 
-/// The layouts table: each row's four columns timed in alternation (they must hit alike).
+/// One row of the layouts table to measure: its label, its query for Embree, its rays and the
+/// four layouts' traces.
+type LayoutCase<'a> = (
+    [&'static str; 3],
+    (Query, Traversal),
+    &'a [Ray],
+    [Trace<'a>; 4],
+);
+
+/// Embree 3 robust on `s`'s triangles in one scene, and on its meshes each in a scene of its own
+/// placed by an identity instance.
+fn embree_layouts(s: &SceneSet) -> Result<[EmbreeScene; 2], String> {
+    let mut bounds = s.meshes.clone();
+    bounds.push(s.tris.len());
+    let meshes: Vec<&[[glam::Vec3; 3]]> = bounds
+        .windows(2)
+        .filter(|w| w[0] != w[1])
+        .map(|w| &s.tris[w[0]..w[1]])
+        .collect();
+    Ok([
+        EmbreeScene::build(&s.tris, true)?.0,
+        EmbreeScene::build_meshes_instanced(&meshes, true)?.0,
+    ])
+}
+
+/// The layouts table: each row's four columns timed in alternation (they must hit alike), then
+/// Embree's two in alternation.
 fn layout_rows(
     s: &SceneSet,
     runs: usize,
     tree: &Bvh8<VertexTriangle>,
     p8: &[Ray],
     bounce: &[Ray],
+    embree: &Result<[EmbreeScene; 2], String>,
 ) -> Vec<LayoutRow> {
     let (one, many, inst) = (
         scene_of(s, Layout::OneGeometry),
@@ -95,18 +130,34 @@ fn layout_rows(
         Box::new(move |r| scene_singles_any(rn, r)),
         Box::new(move |r| scene_singles_any(ri, r)),
     ];
-    let rows: [([&str; 3], &[Ray], [Trace<'_>; 4]); 4] = [
-        (["primary", "closest", "packet-8"], p8, closest(true)),
-        (["primary", "closest", "single ray"], p8, closest(false)),
-        (["primary", "any", "single ray"], p8, any),
+    let rows: [LayoutCase<'_>; 4] = [
+        (
+            ["primary", "closest", "packet-8"],
+            (Query::Closest, Traversal::Packet8),
+            p8,
+            closest(true),
+        ),
+        (
+            ["primary", "closest", "single ray"],
+            (Query::Closest, Traversal::Single),
+            p8,
+            closest(false),
+        ),
+        (
+            ["primary", "any", "single ray"],
+            (Query::Any, Traversal::Single),
+            p8,
+            any,
+        ),
         (
             ["diffuse bounce", "closest", "single ray"],
+            (Query::Closest, Traversal::Single),
             bounce,
             closest(false),
         ),
     ];
     rows.into_iter()
-        .map(|(label, set, [a, b, c, d])| {
+        .map(|(label, (q, how), set, [a, b, c, d])| {
             let r = alternating(
                 runs,
                 set.len(),
@@ -119,10 +170,22 @@ fn layout_rows(
                 hits.iter().all(|&h| h == hits[0]),
                 "the same hits through every structure"
             );
-            eprintln!("{} {label:?}: {r:?}", s.name);
+            let embree = embree.as_ref().ok().map(|[one, inst]| {
+                let e = alternating(
+                    runs,
+                    set.len(),
+                    &mut [
+                        &mut || one.trace(q, how, set).expect("an Embree row"),
+                        &mut || inst.trace(q, how, set).expect("an Embree row"),
+                    ],
+                );
+                [e[0].0, e[1].0]
+            });
+            eprintln!("{} {label:?}: {r:?} Embree {embree:?}", s.name);
             LayoutRow {
                 label,
                 mrays: [r[0].0, r[1].0, r[2].0, r[3].0],
+                embree,
             }
         })
         .collect()
@@ -227,11 +290,13 @@ pub fn measure(s: &SceneSet, runs: usize) -> ModelReport {
     let tree = Bvh8::build(&verts);
     let p8 = s.primary_tiled(0, 1024, 768, 4, 2);
     let bounce = s.diffuse_bounces(&p8, &tree);
+    let embree = embree_layouts(s);
     ModelReport {
         name: s.name,
         geoms: scene_of(s, Layout::MeshesOneTree).geometries().len(),
         runs,
-        layouts: layout_rows(s, runs, &tree, &p8, &bounce),
+        layouts: layout_rows(s, runs, &tree, &p8, &bounce, &embree),
+        embree_skipped: embree.err(),
         refit: refit_times(s, runs, &verts, &tree),
         frames: frames(s, runs, &tree, &p8, &bounce),
         alpha: alpha_rates(runs, &tree, &p8),
@@ -257,21 +322,31 @@ impl ModelReport {
         writeln!(md, "\n### {name}: one tree against scenes of its meshes\n").unwrap();
         writeln!(
             md,
-            "The same triangles, watertight, the query mask all ones: `Bvh8` alone; a scene of one geometry; a scene of its {geoms} meshes as geometries in one tree (one instance of the set: what a renderer does with static meshes); the {geoms} meshes each in its own tree and instance (two levels, identity transforms). The columns of a row are timed in alternation, best of {runs} rounds; ratios against the one-tree column of the same rays.\n"
+            "The same triangles, watertight, the query mask all ones: `Bvh8` alone; a scene of one geometry; a scene of its {geoms} meshes as geometries in one tree (one instance of the set: what a renderer does with static meshes); the {geoms} meshes each in its own tree and instance (two levels, identity transforms). The columns of a row are timed in alternation, best of {runs} rounds; ratios against the one-tree column of the same rays. Embree 3 robust on the same triangles in one scene and on the same meshes each in its own scene placed by an identity instance, those two timed in alternation after octoray's.{}\n",
+            self.embree_skipped
+                .as_ref()
+                .map_or(String::new(), |e| format!(" Embree skipped: {e}."))
         )
         .unwrap();
         writeln!(
             md,
-            "| rays | query | traversal | one tree | 1 geometry | 1 geometry / one tree | {geoms} geometries, one tree | {geoms} geometries / one tree | {geoms} instances | {geoms} instances / one tree |"
+            "| rays | query | traversal | one tree | 1 geometry | 1 geometry / one tree | {geoms} geometries, one tree | {geoms} geometries / one tree | {geoms} instances | {geoms} instances / one tree | Embree 3 robust, one tree | Embree, {geoms} instances | Embree {geoms} instances / one tree | {geoms} instances / Embree {geoms} instances |"
         )
         .unwrap();
-        writeln!(md, "|---|---|---|---|---|---|---|---|---|---|").unwrap();
+        writeln!(
+            md,
+            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+        )
+        .unwrap();
         for r in &self.layouts {
             let [rays, q, how] = r.label;
             let [ra, rb, rc, rd] = r.mrays;
+            let embree = r.embree.map_or("— | — | — | —".to_string(), |[eo, ei]| {
+                format!("{eo:.2} | {ei:.2} | {:.2}× | {:.2}×", ei / eo, rd / ei)
+            });
             writeln!(
                 md,
-                "| {rays} | {q} | {how} | {ra:.2} | {rb:.2} | {:.2}× | {rc:.2} | {:.2}× | {rd:.2} | {:.2}× |",
+                "| {rays} | {q} | {how} | {ra:.2} | {rb:.2} | {:.2}× | {rc:.2} | {:.2}× | {rd:.2} | {:.2}× | {embree} |",
                 rb / ra,
                 rc / ra,
                 rd / ra
