@@ -11,10 +11,11 @@ use crate::tree::epilog::{bound, Best, PacketBest};
 use crate::tree::leaf::{Leaf, Members};
 use crate::tree::packet::{packet_result, packet_walk, run_packet};
 use crate::tree::point::{Best as PointBest, KNearest, PointHit};
-use crate::tree::single::run_single;
 use crate::tree::single::trace_single;
+use crate::tree::single::{run_prepared, run_single, Prepared};
 use crate::tree::slab::BoxRay;
 use arrayvec::ArrayVec;
+use core::cell::OnceCell;
 use octoray_core::bvh::Bvh8Ref;
 use octoray_core::glam::Vec3;
 use octoray_core::hit::{AcceptAll, Hit, HitFilter};
@@ -65,12 +66,14 @@ impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS
     }
 
     /// One ray (in this level's space) through the part of instance `inst` that starts at
-    /// `node` of its tree.
+    /// `node` of its tree; a tree of triangles placed by the identity with the level's ray
+    /// prepared once (`unmoved`).
     #[inline(always)]
     fn single_instance<F: HitFilter, const ANY: bool>(
         &self,
         (inst, node): (u32, u32),
         world: &Ray,
+        unmoved: &Unmoved<L, KT>,
         best: &mut Option<Best<L::Scalar>>,
         filter: &mut F,
         ray_id: u32,
@@ -78,6 +81,20 @@ impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS
         let Some((i, entered)) = self.enter(inst) else {
             return false;
         };
+        if let (Entered::Tree(Geometries::Triangles(b), place), true) =
+            (&entered, i.transform.is_identity())
+        {
+            // The identity keeps the ray's bits: the level's ray, prepared once.
+            let Some(p) = unmoved.get_or_init(|| Prepared::new(world)) else {
+                return false;
+            };
+            let (b, place) = (*b, *place);
+            return if place.2.members.is_empty() {
+                run_prepared::<L, KT, F, ANY, false>(b, place, node, p, best, filter, ray_id)
+            } else {
+                run_prepared::<L, KT, F, ANY, true>(b, place, node, p, best, filter, ray_id)
+            };
+        }
         let ray = i.transform.apply(world);
         match entered {
             Entered::Tree(tree, place) => visit::<L, KT, KS, _>(
@@ -126,11 +143,12 @@ impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS
             return false;
         }
         let top = self.level.top;
+        let unmoved = Unmoved::new();
         if !top.nodes().is_empty()
             && trace_single::<L, _, F, ANY>(
                 top.nodes(),
                 self,
-                &(),
+                &unmoved,
                 &RayLanes::<L>::broadcast(ray),
                 &br,
                 (0, 0),
@@ -143,7 +161,8 @@ impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS
             return true;
         }
         for &inst in self.level.unbounded {
-            if self.single_instance::<F, ANY>((inst, 0), ray, best, filter, ray_id) && ANY {
+            if self.single_instance::<F, ANY>((inst, 0), ray, &unmoved, best, filter, ray_id) && ANY
+            {
                 return true;
             }
         }
@@ -227,7 +246,7 @@ impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS
         packet_walk::<L, _, F, ANY>(
             self.level.top.nodes(),
             self,
-            &(),
+            &Unmoved::new(),
             rays,
             &br,
             0,
@@ -335,15 +354,21 @@ impl<L: Lanes, F: HitFilter, const ANY: bool> TreeWalk<L> for PacketWalk<'_, L, 
     }
 }
 
+/// A level's ray prepared once for the trees of triangles its instances place by the identity
+/// (`None` inside: not valid), made at the first such entry.
+type Unmoved<L, KT> = OnceCell<Option<Prepared<L, KT>>>;
+
 impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Leaf<L> for Instances<'_, '_, L, KT, KS> {
-    type Pre = ();
+    type Pre = Unmoved<L, KT>;
 
     #[inline(always)]
-    fn prepare(&self, _: &RayLanes<L>) {}
+    fn prepare(&self, _: &RayLanes<L>) -> Self::Pre {
+        OnceCell::new()
+    }
 
     fn single<F: HitFilter, const ANY: bool>(
         &self,
-        _: &(),
+        unmoved: &Self::Pre,
         first: usize,
         count: usize,
         rl: &RayLanes<L>,
@@ -357,7 +382,7 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Leaf<L> for Instances<'_, '_, L, KT
             let Some(part) = self.level.part(slot) else {
                 continue;
             };
-            if self.single_instance::<F, ANY>(part, &world, best, filter, ray_id) && ANY {
+            if self.single_instance::<F, ANY>(part, &world, unmoved, best, filter, ray_id) && ANY {
                 return true;
             }
         }
@@ -367,7 +392,7 @@ impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Leaf<L> for Instances<'_, '_, L, KT
 
     fn packet<F: HitFilter, const ANY: bool>(
         &self,
-        _: &(),
+        _: &Self::Pre,
         first: usize,
         count: usize,
         rays: &RayLanes<L>,
@@ -480,7 +505,7 @@ fn walk_single<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: 
     let any = if scene.world().instances.len() == 1 {
         // One world instance (a renderer's static world): no top level to walk; its tree's
         // root test is the only box test it needs.
-        leaf.single_instance::<F, ANY>((0, 0), ray, &mut best, filter, ray_id)
+        leaf.single_instance::<F, ANY>((0, 0), ray, &Unmoved::new(), &mut best, filter, ray_id)
     } else {
         leaf.single_level::<F, ANY>(ray, &mut best, filter, ray_id)
     };

@@ -207,11 +207,37 @@ pub(crate) fn trace_single_outlined<L: Lanes, T: Leaf<L>, F: HitFilter, const AN
     trace_single::<L, T, F, ANY>(nodes, leaf, pre, rl, br, start, best, filter, ray_id)
 }
 
-/// One ray through geometry `bvh` (hits reported as geometry `geom` of instance `inst`) from
-/// node `node` (0: the root), `best` carried in and out: prepares the ray for [`trace_single`].
+/// One valid ray prepared for the walk of a tree tested with kernel `K`: its lanes, its box ray
+/// and the kernel's precomputation.
+pub(crate) struct Prepared<L: Lanes, K: Kernel<L>> {
+    rl: RayLanes<L>,
+    br: BoxRay<f32x8>,
+    pre: K::Pre,
+}
+
+impl<L: Lanes, K: Kernel<L>> Prepared<L, K> {
+    /// `ray` prepared; `None` when no kernel can hit anything with it (a non-finite or zero
+    /// direction, a non-finite origin).
+    #[inline(always)]
+    pub(crate) fn new(ray: &Ray) -> Option<Self> {
+        let br = BoxRay::new(&RayLanes::<f32x8>::broadcast(ray));
+        if br.valid.none() {
+            return None;
+        }
+        let rl = RayLanes::<L>::broadcast(ray);
+        Some(Self {
+            pre: K::prepare(&rl),
+            rl,
+            br,
+        })
+    }
+}
+
+/// The prepared ray `p` through geometry `bvh` (hits reported as geometry `geom` of instance
+/// `inst`) from node `node` (0: the root), `best` carried in and out ([`trace_single`]).
 #[allow(clippy::too_many_arguments)] // the walk's state
 #[inline(always)]
-pub(crate) fn run_single<
+pub(crate) fn run_prepared<
     L: Lanes,
     K: Kernel<L>,
     F: HitFilter,
@@ -221,17 +247,12 @@ pub(crate) fn run_single<
     bvh: Bvh8Ref<'_, K::Prim>,
     (geom, inst, members): (u32, u32, Members<'_>),
     node: u32,
-    ray: &Ray,
+    p: &Prepared<L, K>,
     best: &mut Option<Best<L::Scalar>>,
     filter: &mut F,
     ray_id: u32,
 ) -> bool {
     if bvh.nodes().is_empty() {
-        return false;
-    }
-    let rl = RayLanes::<L>::broadcast(ray);
-    let br = BoxRay::new(&RayLanes::<f32x8>::broadcast(ray));
-    if br.valid.none() {
         return false;
     }
     let leaf = Prims::<L, K, MANY> {
@@ -243,12 +264,41 @@ pub(crate) fn run_single<
     trace_single::<L, _, F, ANY>(
         bvh.nodes(),
         &leaf,
-        &leaf.prepare(&rl),
-        &rl,
-        &br,
+        &p.pre,
+        &p.rl,
+        &p.br,
         (node, 0),
         best,
         filter,
         ray_id,
     )
+}
+
+/// One ray through geometry `bvh` (hits reported as geometry `geom` of instance `inst`) from
+/// node `node` (0: the root), `best` carried in and out: prepares the ray ([`Prepared`]) for
+/// [`run_prepared`].
+#[allow(clippy::too_many_arguments)] // the walk's state
+#[inline(always)]
+pub(crate) fn run_single<
+    L: Lanes,
+    K: Kernel<L>,
+    F: HitFilter,
+    const ANY: bool,
+    const MANY: bool,
+>(
+    bvh: Bvh8Ref<'_, K::Prim>,
+    place: (u32, u32, Members<'_>),
+    node: u32,
+    ray: &Ray,
+    best: &mut Option<Best<L::Scalar>>,
+    filter: &mut F,
+    ray_id: u32,
+) -> bool {
+    if bvh.nodes().is_empty() {
+        return false;
+    }
+    match Prepared::<L, K>::new(ray) {
+        Some(p) => run_prepared::<L, K, F, ANY, MANY>(bvh, place, node, &p, best, filter, ray_id),
+        None => false,
+    }
 }
