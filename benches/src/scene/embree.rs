@@ -342,18 +342,7 @@ impl EmbreeScene {
                 (api.set_scene_flags)(scene, SCENE_FLAG_ROBUST);
             }
             for a in places {
-                let geom = (api.new_geometry)(device, GEOMETRY_INSTANCE);
-                (api.set_instanced_scene)(geom, inner);
-                let cols = a.to_cols_array();
-                (api.set_transform)(
-                    geom,
-                    0,
-                    FORMAT_FLOAT3X4_COLUMN_MAJOR,
-                    cols.as_ptr() as *const c_void,
-                );
-                (api.commit_geometry)(geom);
-                (api.attach_geometry)(scene, geom);
-                (api.release_geometry)(geom);
+                Self::attach_instance(api, device, scene, inner, a);
             }
             let start = Instant::now();
             (api.commit_scene)(scene);
@@ -377,7 +366,6 @@ impl EmbreeScene {
     ) -> Result<(Self, Duration), String> {
         let api = API.get_or_init(Api::load).as_ref().map_err(Clone::clone)?;
         let device = Self::device(api)?;
-        let identity = glam::Affine3A::IDENTITY.to_cols_array();
         // SAFETY: as `build_instanced`, one committed mesh scene per instance geometry.
         unsafe {
             let flags = if robust { SCENE_FLAG_ROBUST } else { 0 };
@@ -388,17 +376,7 @@ impl EmbreeScene {
             for mesh in meshes {
                 let (m, t) = Self::mesh_scene(api, device, mesh, flags);
                 built += t;
-                let geom = (api.new_geometry)(device, GEOMETRY_INSTANCE);
-                (api.set_instanced_scene)(geom, m);
-                (api.set_transform)(
-                    geom,
-                    0,
-                    FORMAT_FLOAT3X4_COLUMN_MAJOR,
-                    identity.as_ptr() as *const c_void,
-                );
-                (api.commit_geometry)(geom);
-                (api.attach_geometry)(scene, geom);
-                (api.release_geometry)(geom);
+                Self::attach_instance(api, device, scene, m, &glam::Affine3A::IDENTITY);
                 inner.push(m);
             }
             let start = Instant::now();
@@ -412,6 +390,35 @@ impl EmbreeScene {
                 },
                 built + start.elapsed(),
             ))
+        }
+    }
+
+    /// Places the committed scene `inner` in `scene` by one instance geometry with transform `a`
+    /// (committed, attached and released: the scene keeps it).
+    ///
+    /// # Safety
+    /// `device` is a live device of `api`, `scene` and `inner` live scenes of it.
+    unsafe fn attach_instance(
+        api: &Api,
+        device: Device,
+        scene: Scene,
+        inner: Scene,
+        a: &glam::Affine3A,
+    ) {
+        let cols = a.to_cols_array();
+        // SAFETY: Embree's instancing API; the 12 floats of `cols` are read during the call.
+        unsafe {
+            let geom = (api.new_geometry)(device, GEOMETRY_INSTANCE);
+            (api.set_instanced_scene)(geom, inner);
+            (api.set_transform)(
+                geom,
+                0,
+                FORMAT_FLOAT3X4_COLUMN_MAJOR,
+                cols.as_ptr() as *const c_void,
+            );
+            (api.commit_geometry)(geom);
+            (api.attach_geometry)(scene, geom);
+            (api.release_geometry)(geom);
         }
     }
 

@@ -453,9 +453,18 @@ impl Level<'_> {
         if id == PAD {
             return None;
         }
-        let part = InstanceBox::from_block(self.top.block_of(k), k % BLOCK);
-        Some((self.first.wrapping_add(id), part.node))
+        Some((self.first.wrapping_add(id), part_node(&self.top, k)))
     }
+}
+
+/// [`InstanceBox::node`] of slot `k` of a level's tree, read alone from its block.
+///
+/// # Panics
+/// When `k` is not a slot of the tree.
+#[inline(always)]
+pub(crate) fn part_node(top: &Bvh8Ref<'_, InstanceBox>, k: usize) -> u32 {
+    const NODE: usize = core::mem::offset_of!(InstanceBox, node) / 4;
+    top.block_of(k)[NODE][k % BLOCK].to_bits()
 }
 
 /// One tree of a scene, by kind, with its members.

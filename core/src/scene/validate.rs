@@ -217,7 +217,7 @@ fn check_parts(
         if id == crate::bvh::PAD {
             continue;
         }
-        let node = InstanceBox::from_block(top.block_of(slot), slot % BLOCK).node;
+        let node = super::part_node(&top, slot);
         let tree = instances
             .get(id as usize)
             .and_then(|i| parts.trees.get(i.tree as usize));
