@@ -67,8 +67,10 @@ impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS
 
     /// One ray (in this level's space) through the part of instance `inst` that starts at
     /// `node` of its tree; a tree of triangles placed by the identity with the level's ray
-    /// prepared once (`unmoved`).
-    #[inline(always)]
+    /// prepared once (`unmoved`). A call of its own, shared by the level's leaves, its unbounded
+    /// instances and a lone world instance: inlined, each would carry its own copies of the
+    /// trees' walks.
+    #[inline(never)]
     fn single_instance<F: HitFilter, const ANY: bool>(
         &self,
         (inst, node): (u32, u32),
@@ -170,7 +172,8 @@ impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS
     }
 
     /// The lanes `live` of a packet (in this level's space) through the part of instance `inst`
-    /// that starts at `node` of its tree.
+    /// that starts at `node` of its tree. Inlined into the level's leaves, the hot path;
+    /// [`Instances::packet_instance_outlined`] for the unbounded instances.
     #[inline(always)]
     fn packet_instance<F: HitFilter, const ANY: bool>(
         &self,
@@ -217,6 +220,21 @@ impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS
         }
     }
 
+    /// [`Instances::packet_instance`] as a call of its own: inlined into the loop over a level's
+    /// unbounded instances too, it would carry a second copy of the trees' walks.
+    #[inline(never)]
+    fn packet_instance_outlined<F: HitFilter, const ANY: bool>(
+        &self,
+        part: (u32, u32),
+        world: &RayLanes<L>,
+        live: L::Mask,
+        best: &mut PacketBest<L>,
+        filter: &mut F,
+        ray_base: u32,
+    ) {
+        self.packet_instance::<F, ANY>(part, world, live, best, filter, ray_base);
+    }
+
     /// A packet (in this level's space, its live lanes `rays.active`) through the level: its
     /// tree, then its unbounded instances. Not inlined, as [`Instances::single_group`].
     #[inline(never)]
@@ -259,7 +277,7 @@ impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS
             if live.none() {
                 break;
             }
-            self.packet_instance::<F, ANY>((inst, 0), rays, live, best, filter, ray_base);
+            self.packet_instance_outlined::<F, ANY>((inst, 0), rays, live, best, filter, ray_base);
         }
     }
 }
@@ -505,7 +523,8 @@ fn walk_single<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, F: HitFilter, const ANY: 
     let any = if scene.world().instances.len() == 1 {
         // One world instance (a renderer's static world): no top level to walk; its tree's
         // root test is the only box test it needs.
-        leaf.single_instance::<F, ANY>((0, 0), ray, &Unmoved::new(), &mut best, filter, ray_id)
+        let unmoved = Unmoved::new();
+        leaf.single_instance::<F, ANY>((0, 0), ray, &unmoved, &mut best, filter, ray_id)
     } else {
         leaf.single_level::<F, ANY>(ray, &mut best, filter, ray_id)
     };
