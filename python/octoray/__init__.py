@@ -1,0 +1,189 @@
+"""Ray casting over numpy arrays with octoray's watertight and exact kernels.
+
+A :class:`Mesh` is built once from ``vertices`` (n, 3) and ``faces`` (m, 3); its queries take
+batches of rays (rows ``ox, oy, oz, dx, dy, dz``) or points (rows ``x, y, z``), release the GIL
+and use every core (``threads=1`` for one). Answers are the same bits on every machine and for
+every number of threads.
+
+Tiers (``tier=``): ``"watertight"`` (default; no ray escapes a closed mesh), ``"exact"`` (every
+hit or miss exact for the float32 inputs), ``"standard"`` (Möller–Trumbore; rays may slip
+through shared edges).
+
+Bad input raises: ``ValueError`` for shapes, out-of-range face indices, unknown tiers and
+queries that need a closed mesh on one that is not; ``TypeError`` for faces that are not
+integers. Rays a kernel cannot trace (NaN, infinite, zero direction, empty range) miss.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._octoray import Mesh as _Mesh
+from ._octoray import __version__
+
+__all__ = ["Mesh", "Hits", "AllHits", "ClosestPoints", "TIERS", "__version__"]
+
+#: The tier names a mesh accepts.
+TIERS = ("watertight", "exact", "standard")
+
+
+@dataclass(frozen=True)
+class Hits:
+    """First hits, one entry per ray."""
+
+    #: Ray parameter of the hit (float32); ``inf`` for a miss.
+    t: np.ndarray
+    #: Index of the face hit (int64); ``-1`` for a miss.
+    prim: np.ndarray
+    #: Barycentric weight of the face's second vertex (float32).
+    u: np.ndarray
+    #: Barycentric weight of the face's third vertex (float32).
+    v: np.ndarray
+    #: Unit geometric normal ``(v1 - v0) x (v2 - v0)`` of the face hit (n, 3); 0 for a miss.
+    normal: np.ndarray
+    #: Whether the ray met the face's front (the side its normal points to).
+    front: np.ndarray
+
+    @property
+    def hit(self) -> np.ndarray:
+        """Whether each ray hit anything."""
+        return self.prim >= 0
+
+
+@dataclass(frozen=True)
+class AllHits:
+    """Every hit of every ray, flat, ordered by ray then ``t``; each face once per ray."""
+
+    #: Index of the ray (int64).
+    ray: np.ndarray
+    #: Index of the face (int64).
+    prim: np.ndarray
+    #: Ray parameter (float32).
+    t: np.ndarray
+    #: Barycentric weights (float32).
+    u: np.ndarray
+    v: np.ndarray
+
+
+@dataclass(frozen=True)
+class ClosestPoints:
+    """The nearest point of the mesh to each query point."""
+
+    #: The nearest point (n, 3) float32; NaN where none lies within the bound.
+    point: np.ndarray
+    #: Its distance (float32); ``inf`` where none lies within the bound.
+    distance: np.ndarray
+    #: Index of its face (int64); ``-1`` where none lies within the bound.
+    prim: np.ndarray
+    #: Its barycentric weights on the face (float32).
+    u: np.ndarray
+    v: np.ndarray
+
+
+def _rows(a, width, name, dtype=np.float32):
+    """``a`` as a C-contiguous (n, width) array of ``dtype``, or ``ValueError``."""
+    a = np.asarray(a)
+    if a.ndim != 2 or a.shape[1] != width:
+        raise ValueError(f"{name} must have shape (n, {width}), got {a.shape}")
+    return np.ascontiguousarray(a, dtype=dtype)
+
+
+def _range(value, n, name):
+    """A scalar or (n,) bound as a contiguous float32 (n,) array, or ``ValueError``."""
+    a = np.asarray(value, dtype=np.float32)
+    if a.ndim > 1 or (a.ndim == 1 and a.shape[0] != n):
+        raise ValueError(f"{name} must be a scalar or have shape ({n},), got {a.shape}")
+    return np.ascontiguousarray(np.broadcast_to(a, (n,)))
+
+
+def _threads(threads):
+    if threads is None:
+        return None
+    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
+        raise ValueError(f"threads must be None or an integer >= 1, got {threads!r}")
+    return int(threads)
+
+
+class Mesh:
+    """A triangle mesh and its BVH, built once; every query is batched.
+
+    ``vertices``: (n, 3) numbers (rounded to float32); ``faces``: (m, 3) integer indices into
+    them. ``tier``: one of :data:`TIERS`.
+    """
+
+    def __init__(self, vertices, faces, tier="watertight"):
+        vertices = _rows(vertices, 3, "vertices")
+        faces = np.asarray(faces)
+        if faces.size and not np.issubdtype(faces.dtype, np.integer):
+            raise TypeError(f"faces must be integers, got {faces.dtype}")
+        faces = _rows(faces, 3, "faces", dtype=np.int64)
+        if not isinstance(tier, str):
+            raise TypeError(f"tier must be a string, got {type(tier).__name__}")
+        self._mesh = _Mesh(vertices, faces, tier)
+
+    @property
+    def triangle_count(self) -> int:
+        """The number of faces."""
+        return self._mesh.triangle_count
+
+    @property
+    def tier(self) -> str:
+        """The tier rays are answered with."""
+        return self._mesh.tier
+
+    @property
+    def is_closed(self) -> bool:
+        """Every edge shared by exactly two faces with opposite orientation (what
+        :meth:`contains`, :meth:`winding_number` and :meth:`signed_distance` need)."""
+        return self._mesh.is_closed
+
+    def _rays(self, rays, t_min, t_max):
+        rays = _rows(rays, 6, "rays")
+        n = rays.shape[0]
+        return rays, _range(t_min, n, "t_min"), _range(t_max, n, "t_max")
+
+    def closest(self, rays, t_min=0.0, t_max=np.inf, threads=None) -> Hits:
+        """The first hit of each ray (rows ``ox, oy, oz, dx, dy, dz``) with ``t`` in
+        ``[t_min, t_max]`` (scalars or one per ray)."""
+        r, lo, hi = self._rays(rays, t_min, t_max)
+        return Hits(*self._mesh.closest(r, lo, hi, _threads(threads)))
+
+    def occluded(self, rays, t_min=0.0, t_max=np.inf, threads=None) -> np.ndarray:
+        """Whether each ray hits anything with ``t`` in ``[t_min, t_max]`` (bool array)."""
+        r, lo, hi = self._rays(rays, t_min, t_max)
+        return self._mesh.occluded(r, lo, hi, _threads(threads))
+
+    def all_hits(self, rays, t_min=0.0, t_max=np.inf, threads=None) -> AllHits:
+        """Every hit of each ray with ``t`` in ``[t_min, t_max]``, each face once per ray."""
+        r, lo, hi = self._rays(rays, t_min, t_max)
+        return AllHits(*self._mesh.all_hits(r, lo, hi, _threads(threads)))
+
+    def crossings(self, rays, t_min=0.0, t_max=np.inf, threads=None) -> np.ndarray:
+        """How many faces each ray crosses in ``(t_min, t_max)``, exactly: a ray through a
+        shared edge or vertex crosses one face there, once (uint32 array). For a closed mesh the
+        parity says whether the ray's ends are on the same side."""
+        r, lo, hi = self._rays(rays, t_min, t_max)
+        return self._mesh.crossings(r, lo, hi, _threads(threads))
+
+    def contains(self, points, threads=None) -> np.ndarray:
+        """Whether each point is inside the closed mesh, exactly (bool array). A point on the
+        surface counts as moved an infinitesimal step along +x, then +y, then +z. Raises
+        ``ValueError`` if the mesh is not closed."""
+        return self._mesh.contains(_rows(points, 3, "points"), _threads(threads))
+
+    def winding_number(self, points, threads=None) -> np.ndarray:
+        """The winding number of the closed mesh around each point (int32 array; 1 inside an
+        outward-oriented mesh, 0 outside). Raises ``ValueError`` if the mesh is not closed."""
+        return self._mesh.winding_number(_rows(points, 3, "points"), _threads(threads))
+
+    def signed_distance(self, points, threads=None) -> np.ndarray:
+        """The distance from each point to the closed mesh, negative inside (float32 array; the
+        sign exact; NaN for a non-finite point). Raises ``ValueError`` if the mesh is not
+        closed."""
+        return self._mesh.signed_distance(_rows(points, 3, "points"), _threads(threads))
+
+    def closest_points(self, points, max_distance=np.inf, threads=None) -> ClosestPoints:
+        """The nearest point of the mesh to each point, within ``max_distance``."""
+        p = _rows(points, 3, "points")
+        d = float(max_distance)
+        return ClosestPoints(*self._mesh.closest_points(p, d, _threads(threads)))

@@ -1,0 +1,108 @@
+//! numpy arrays in and out: shape checks, rays and points from rows, and the thread split that
+//! every batched query shares.
+
+use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use octoray::glam::Vec3;
+use octoray::prim::Ray;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use rayon::prelude::*;
+
+/// Rows handed to one thread at a time: large enough that the split costs nothing, small
+/// enough that the threads finish together.
+const CHUNK: usize = 1024;
+
+/// `a`'s rows as a slice of `width` floats each, or a `ValueError` naming `what`.
+pub fn rows<'a, T: numpy::Element>(
+    a: &'a PyReadonlyArray2<'_, T>,
+    width: usize,
+    what: &str,
+) -> PyResult<&'a [T]> {
+    let shape = a.shape();
+    if shape[1] != width {
+        return Err(PyValueError::new_err(format!(
+            "{what} must have shape (n, {width}), got ({}, {})",
+            shape[0], shape[1]
+        )));
+    }
+    a.as_slice()
+        .map_err(|_| PyValueError::new_err(format!("{what} must be C-contiguous")))
+}
+
+/// One value per row: a `ValueError` unless `a` has `n` entries.
+pub fn column<'a, T: numpy::Element>(
+    a: &'a PyReadonlyArray1<'_, T>,
+    n: usize,
+    what: &str,
+) -> PyResult<&'a [T]> {
+    let s = a
+        .as_slice()
+        .map_err(|_| PyValueError::new_err(format!("{what} must be C-contiguous")))?;
+    if s.len() != n {
+        return Err(PyValueError::new_err(format!(
+            "{what} must have {n} entries (one per ray), got {}",
+            s.len()
+        )));
+    }
+    Ok(s)
+}
+
+/// Rays from rows `(ox, oy, oz, dx, dy, dz)` and their parameter ranges. Any values are
+/// accepted: a ray the kernels cannot trace (a NaN, a zero direction, an empty range) misses.
+pub fn rays(
+    rows6: &PyReadonlyArray2<'_, f32>,
+    t_min: &PyReadonlyArray1<'_, f32>,
+    t_max: &PyReadonlyArray1<'_, f32>,
+) -> PyResult<Vec<Ray>> {
+    let r = rows(rows6, 6, "rays")?;
+    let n = r.len() / 6;
+    let (lo, hi) = (column(t_min, n, "t_min")?, column(t_max, n, "t_max")?);
+    Ok(r.chunks_exact(6)
+        .zip(lo.iter().zip(hi))
+        .map(|(r, (&lo, &hi))| {
+            let o = Vec3::new(r[0], r[1], r[2]);
+            Ray::with_range(o, Vec3::new(r[3], r[4], r[5]), lo, hi)
+        })
+        .collect())
+}
+
+/// Points from rows `(x, y, z)`.
+pub fn points(rows3: &PyReadonlyArray2<'_, f32>) -> PyResult<Vec<Vec3>> {
+    let r = rows(rows3, 3, "points")?;
+    Ok(r.chunks_exact(3)
+        .map(|p| Vec3::new(p[0], p[1], p[2]))
+        .collect())
+}
+
+/// The worker threads of one call: `None` for rayon's global pool (one per core), or `n ≥ 1`.
+pub fn pool(threads: Option<usize>) -> PyResult<Option<rayon::ThreadPool>> {
+    match threads {
+        None => Ok(None),
+        Some(0) => Err(PyValueError::new_err("threads must be at least 1")),
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map(Some)
+            .map_err(|e| PyValueError::new_err(e.to_string())),
+    }
+}
+
+/// `out[i] = f(&input[i])` for every `i`, in chunks spread over `pool`'s threads (the answer
+/// does not depend on the split).
+pub fn map_into<I: Sync, O: Send>(
+    pool: Option<&rayon::ThreadPool>,
+    input: &[I],
+    out: &mut [O],
+    f: impl Fn(&[I], &mut [O]) + Sync,
+) {
+    let mut run = || {
+        input
+            .par_chunks(CHUNK)
+            .zip(out.par_chunks_mut(CHUNK))
+            .for_each(|(i, o)| f(i, o));
+    };
+    match pool {
+        Some(p) => p.install(run),
+        None => run(),
+    }
+}

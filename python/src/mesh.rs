@@ -1,0 +1,476 @@
+//! `Mesh`: one triangle mesh, its 8-wide BVH built once, and the batched queries over it.
+
+use crate::arrays::{self, map_into};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
+use octoray::bvh::{Bvh8, Solid};
+use octoray::f32x8;
+use octoray::glam::Vec3;
+use octoray::hit::Hit;
+use octoray::kernels::{Exact, Kernel, MollerTrumbore, Watertight};
+use octoray::prim::{PackedTriangle, Ray, VertexTriangle};
+use octoray::shading::Shade;
+use octoray::tree;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use rayon::prelude::*;
+
+/// The triangle tier a mesh answers rays with.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Tier {
+    /// Möller–Trumbore: stated error bounds, rays may slip through shared edges.
+    Standard,
+    /// No ray escapes a closed mesh.
+    Watertight,
+    /// Every hit or miss exact for the f32 inputs.
+    Exact,
+}
+
+impl Tier {
+    fn parse(name: &str) -> PyResult<Self> {
+        match name {
+            "standard" => Ok(Self::Standard),
+            "watertight" => Ok(Self::Watertight),
+            "exact" => Ok(Self::Exact),
+            _ => Err(PyValueError::new_err(format!(
+                "unknown tier {name:?}: expected \"watertight\", \"exact\" or \"standard\""
+            ))),
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Self::Standard => "standard",
+            Self::Watertight => "watertight",
+            Self::Exact => "exact",
+        }
+    }
+}
+
+/// A triangle mesh and its BVH: first hits, occlusion and every hit along rays with the chosen
+/// tier; exact crossing counts, containment, winding numbers and signed distance (closed
+/// meshes); closest points.
+#[pyclass(frozen, module = "octoray._octoray")]
+pub struct Mesh {
+    tier: Tier,
+    tris: Vec<VertexTriangle>,
+    bvh: Bvh8<VertexTriangle>,
+    /// The standard tier's layout of the same triangles.
+    packed: Option<Bvh8<PackedTriangle>>,
+    /// Why the mesh is not closed (`None`: it is).
+    open: Option<String>,
+}
+
+/// The first hits as arrays: `t` (inf: miss), primitive (−1: miss), `u`, `v`, the unit
+/// geometric normal `(v1 − v0) × (v2 − v0)` (0: miss) and whether the ray met the front.
+type FirstHits<'py> = (
+    Bound<'py, PyArray1<f32>>,
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<f32>>,
+    Bound<'py, PyArray1<f32>>,
+    Bound<'py, PyArray2<f32>>,
+    Bound<'py, PyArray1<bool>>,
+);
+
+/// Every hit, flat, by ray then `t`: ray index, primitive, `t`, `u`, `v`.
+type EveryHit<'py> = (
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<f32>>,
+    Bound<'py, PyArray1<f32>>,
+    Bound<'py, PyArray1<f32>>,
+);
+
+/// The closest points: the point, its distance (inf: none within the bound), primitive (−1:
+/// none), `u`, `v`.
+type NearestPoints<'py> = (
+    Bound<'py, PyArray2<f32>>,
+    Bound<'py, PyArray1<f32>>,
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<f32>>,
+    Bound<'py, PyArray1<f32>>,
+);
+
+/// Hits collected per walk of the all-hits query: a ray with more walks again after the last.
+const PAGE: usize = 64;
+
+/// Every hit of `ray` with kernel `K`, in hit order, appended to `out` with the ray's index.
+fn every_hit<K: Kernel<f32x8>>(
+    bvh: octoray::bvh::Bvh8Ref<'_, K::Prim>,
+    i: usize,
+    ray: &Ray,
+    out: &mut Vec<(usize, Hit)>,
+) {
+    let mut page = [Hit::default(); PAGE];
+    let mut after = None;
+    loop {
+        let found = tree::all_hits_ray::<f32x8, K>(bvh, ray, after, &mut page);
+        out.extend(page[..found.stored].iter().map(|h| (i, *h)));
+        if found.complete || found.stored == 0 {
+            return;
+        }
+        after = Some(page[found.stored - 1]);
+    }
+}
+
+impl Mesh {
+    /// The closed mesh as a [`Solid`], or the `ValueError` saying why it is not one.
+    fn solid(&self) -> PyResult<Solid<'_>> {
+        if let Some(why) = &self.open {
+            return Err(PyValueError::new_err(format!(
+                "the mesh is not closed: {why}"
+            )));
+        }
+        Solid::new(self.bvh.as_ref(), &self.tris)
+            .map_err(|e| PyValueError::new_err(format!("the mesh is not closed: {e}")))
+    }
+
+    /// The first hit of every ray with this mesh's tier.
+    fn first_hits(&self, rays: &[Ray], pool: Option<&rayon::ThreadPool>) -> Vec<Option<Hit>> {
+        let mut hits = vec![None; rays.len()];
+        match (self.tier, &self.packed) {
+            (Tier::Standard, Some(p)) => map_into(pool, rays, &mut hits, |r, o| {
+                tree::closest::<f32x8, MollerTrumbore>(p.as_ref(), r, o)
+            }),
+            (Tier::Exact, _) => map_into(pool, rays, &mut hits, |r, o| {
+                tree::closest::<f32x8, Exact>(self.bvh.as_ref(), r, o)
+            }),
+            _ => map_into(pool, rays, &mut hits, |r, o| {
+                tree::closest::<f32x8, Watertight>(self.bvh.as_ref(), r, o)
+            }),
+        }
+        hits
+    }
+
+    /// Every hit of every ray with this mesh's tier, by ray then hit order (the all-hits
+    /// query's body).
+    fn every_hits(&self, rays: &[Ray], pool: Option<&rayon::ThreadPool>) -> Vec<(usize, Hit)> {
+        let run = || -> Vec<(usize, Hit)> {
+            let chunks: Vec<Vec<(usize, Hit)>> = rays
+                .par_chunks(256)
+                .enumerate()
+                .map(|(c, chunk)| {
+                    let mut out = Vec::new();
+                    for (k, ray) in chunk.iter().enumerate() {
+                        let i = c * 256 + k;
+                        match (self.tier, &self.packed) {
+                            (Tier::Standard, Some(p)) => {
+                                every_hit::<MollerTrumbore>(p.as_ref(), i, ray, &mut out)
+                            }
+                            (Tier::Exact, _) => {
+                                every_hit::<Exact>(self.bvh.as_ref(), i, ray, &mut out)
+                            }
+                            _ => every_hit::<Watertight>(self.bvh.as_ref(), i, ray, &mut out),
+                        }
+                    }
+                    out
+                })
+                .collect();
+            chunks.concat()
+        };
+        match pool {
+            Some(p) => p.install(run),
+            None => run(),
+        }
+    }
+}
+
+#[pymethods]
+impl Mesh {
+    /// A mesh from `vertices` (n, 3) float32 and `faces` (m, 3) int64 indices into them, its
+    /// rays answered with `tier`. Raises `ValueError` for a bad shape, an index out of range or
+    /// an unknown tier.
+    #[new]
+    #[pyo3(signature = (vertices, faces, tier = "watertight"))]
+    fn new(
+        py: Python<'_>,
+        vertices: PyReadonlyArray2<'_, f32>,
+        faces: PyReadonlyArray2<'_, i64>,
+        tier: &str,
+    ) -> PyResult<Self> {
+        let tier = Tier::parse(tier)?;
+        let v = arrays::rows(&vertices, 3, "vertices")?;
+        let f = arrays::rows(&faces, 3, "faces")?;
+        let n = v.len() / 3;
+        let vertex = |i: i64| -> PyResult<Vec3> {
+            usize::try_from(i)
+                .ok()
+                .filter(|&i| i < n)
+                .map(|i| Vec3::new(v[3 * i], v[3 * i + 1], v[3 * i + 2]))
+                .ok_or_else(|| {
+                    PyValueError::new_err(format!("face index {i} out of range for {n} vertices"))
+                })
+        };
+        let tris = f
+            .chunks_exact(3)
+            .map(|t| {
+                Ok(VertexTriangle::new(
+                    vertex(t[0])?,
+                    vertex(t[1])?,
+                    vertex(t[2])?,
+                ))
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        py.detach(move || -> Result<Self, String> {
+            let bvh = Bvh8::try_build(&tris).map_err(|e| e.to_string())?;
+            let packed = if tier == Tier::Standard {
+                let p: Vec<PackedTriangle> = tris
+                    .iter()
+                    .map(|t| {
+                        let [a, b, c] = t.vertices();
+                        PackedTriangle::new(a, b, c)
+                    })
+                    .collect();
+                Some(Bvh8::try_build(&p).map_err(|e| e.to_string())?)
+            } else {
+                None
+            };
+            let open = Solid::new(bvh.as_ref(), &tris).err().map(|e| e.to_string());
+            Ok(Self {
+                tier,
+                tris,
+                bvh,
+                packed,
+                open,
+            })
+        })
+        .map_err(PyValueError::new_err)
+    }
+
+    /// The number of triangles.
+    #[getter]
+    fn triangle_count(&self) -> usize {
+        self.tris.len()
+    }
+
+    /// The tier's name.
+    #[getter]
+    fn tier(&self) -> &'static str {
+        self.tier.name()
+    }
+
+    /// Whether every edge is shared by exactly two triangles with opposite orientation: what
+    /// `contains`, `winding_number` and `signed_distance` need.
+    #[getter]
+    fn is_closed(&self) -> bool {
+        self.open.is_none()
+    }
+
+    /// The first hit of every ray (rows `ox, oy, oz, dx, dy, dz`, hits with `t` in
+    /// `[t_min, t_max]`): `(t, prim, u, v, normal, front)` ([`FirstHits`]).
+    #[pyo3(signature = (rays, t_min, t_max, threads = None))]
+    fn closest<'py>(
+        &self,
+        py: Python<'py>,
+        rays: PyReadonlyArray2<'py, f32>,
+        t_min: PyReadonlyArray1<'py, f32>,
+        t_max: PyReadonlyArray1<'py, f32>,
+        threads: Option<usize>,
+    ) -> PyResult<FirstHits<'py>> {
+        let rays = arrays::rays(&rays, &t_min, &t_max)?;
+        let pool = arrays::pool(threads)?;
+        let hits = py.detach(|| self.first_hits(&rays, pool.as_ref()));
+        let n = rays.len();
+        let (mut t, mut prim) = (vec![f32::INFINITY; n], vec![-1i64; n]);
+        let (mut u, mut v) = (vec![0f32; n], vec![0f32; n]);
+        let (mut normal, mut front) = (vec![0f32; 3 * n], vec![false; n]);
+        for (i, (h, ray)) in hits.iter().zip(&rays).enumerate() {
+            let Some(h) = h else { continue };
+            (t[i], prim[i], u[i], v[i]) = (h.t, i64::from(h.prim), h.u, h.v);
+            let s = self.tris[h.prim as usize].surface(ray, h);
+            let g = if s.front_face { s.normal } else { -s.normal };
+            normal[3 * i..3 * i + 3].copy_from_slice(&g.to_array());
+            front[i] = s.front_face;
+        }
+        Ok((
+            PyArray1::from_vec(py, t),
+            PyArray1::from_vec(py, prim),
+            PyArray1::from_vec(py, u),
+            PyArray1::from_vec(py, v),
+            PyArray1::from_vec(py, normal).reshape([n, 3])?,
+            PyArray1::from_vec(py, front),
+        ))
+    }
+
+    /// Whether each ray hits anything with `t` in `[t_min, t_max]`.
+    #[pyo3(signature = (rays, t_min, t_max, threads = None))]
+    fn occluded<'py>(
+        &self,
+        py: Python<'py>,
+        rays: PyReadonlyArray2<'py, f32>,
+        t_min: PyReadonlyArray1<'py, f32>,
+        t_max: PyReadonlyArray1<'py, f32>,
+        threads: Option<usize>,
+    ) -> PyResult<Bound<'py, PyArray1<bool>>> {
+        let rays = arrays::rays(&rays, &t_min, &t_max)?;
+        let pool = arrays::pool(threads)?;
+        let mut out = vec![false; rays.len()];
+        py.detach(|| match (self.tier, &self.packed) {
+            (Tier::Standard, Some(p)) => map_into(pool.as_ref(), &rays, &mut out, |r, o| {
+                tree::occluded::<f32x8, MollerTrumbore>(p.as_ref(), r, o)
+            }),
+            (Tier::Exact, _) => map_into(pool.as_ref(), &rays, &mut out, |r, o| {
+                tree::occluded::<f32x8, Exact>(self.bvh.as_ref(), r, o)
+            }),
+            _ => map_into(pool.as_ref(), &rays, &mut out, |r, o| {
+                tree::occluded::<f32x8, Watertight>(self.bvh.as_ref(), r, o)
+            }),
+        });
+        Ok(PyArray1::from_vec(py, out))
+    }
+
+    /// Every hit of every ray, each triangle once per ray: `(ray, prim, t, u, v)` flat, by ray
+    /// then `t` ([`EveryHit`]).
+    #[pyo3(signature = (rays, t_min, t_max, threads = None))]
+    fn all_hits<'py>(
+        &self,
+        py: Python<'py>,
+        rays: PyReadonlyArray2<'py, f32>,
+        t_min: PyReadonlyArray1<'py, f32>,
+        t_max: PyReadonlyArray1<'py, f32>,
+        threads: Option<usize>,
+    ) -> PyResult<EveryHit<'py>> {
+        let rays = arrays::rays(&rays, &t_min, &t_max)?;
+        let pool = arrays::pool(threads)?;
+        let hits = py.detach(|| self.every_hits(&rays, pool.as_ref()));
+        Ok((
+            PyArray1::from_vec(py, hits.iter().map(|&(i, _)| i as i64).collect()),
+            PyArray1::from_vec(py, hits.iter().map(|(_, h)| i64::from(h.prim)).collect()),
+            PyArray1::from_vec(py, hits.iter().map(|(_, h)| h.t).collect()),
+            PyArray1::from_vec(py, hits.iter().map(|(_, h)| h.u).collect()),
+            PyArray1::from_vec(py, hits.iter().map(|(_, h)| h.v).collect()),
+        ))
+    }
+
+    /// How many triangles each ray crosses in `(t_min, t_max)`, exactly: a ray through a
+    /// shared edge or vertex crosses one triangle there, once.
+    #[pyo3(signature = (rays, t_min, t_max, threads = None))]
+    fn crossings<'py>(
+        &self,
+        py: Python<'py>,
+        rays: PyReadonlyArray2<'py, f32>,
+        t_min: PyReadonlyArray1<'py, f32>,
+        t_max: PyReadonlyArray1<'py, f32>,
+        threads: Option<usize>,
+    ) -> PyResult<Bound<'py, PyArray1<u32>>> {
+        let rays = arrays::rays(&rays, &t_min, &t_max)?;
+        let pool = arrays::pool(threads)?;
+        let mut out = vec![0u32; rays.len()];
+        let bvh = self.bvh.as_ref();
+        py.detach(|| {
+            map_into(pool.as_ref(), &rays, &mut out, |r, o| {
+                for (ray, o) in r.iter().zip(o) {
+                    *o = tree::crossings_ray::<f32x8>(bvh, ray);
+                }
+            })
+        });
+        Ok(PyArray1::from_vec(py, out))
+    }
+
+    /// Whether each point is inside the closed mesh, exactly (a point on the surface as moved
+    /// an infinitesimal step along +x, then +y, then +z). Raises `ValueError` for a mesh that is
+    /// not closed.
+    #[pyo3(signature = (points, threads = None))]
+    fn contains<'py>(
+        &self,
+        py: Python<'py>,
+        points: PyReadonlyArray2<'py, f32>,
+        threads: Option<usize>,
+    ) -> PyResult<Bound<'py, PyArray1<bool>>> {
+        self.on_solid(py, &points, threads, false, tree::contains::<f32x8>)
+    }
+
+    /// The winding number of the closed mesh around each point (1 inside an outward-oriented
+    /// mesh, 0 outside). Raises `ValueError` for a mesh that is not closed.
+    #[pyo3(signature = (points, threads = None))]
+    fn winding_number<'py>(
+        &self,
+        py: Python<'py>,
+        points: PyReadonlyArray2<'py, f32>,
+        threads: Option<usize>,
+    ) -> PyResult<Bound<'py, PyArray1<i32>>> {
+        self.on_solid(py, &points, threads, 0, tree::winding_number::<f32x8>)
+    }
+
+    /// The signed distance from each point to the closed mesh: negative inside (the sign
+    /// exact), NaN for a non-finite point. Raises `ValueError` for a mesh that is not closed.
+    #[pyo3(signature = (points, threads = None))]
+    fn signed_distance<'py>(
+        &self,
+        py: Python<'py>,
+        points: PyReadonlyArray2<'py, f32>,
+        threads: Option<usize>,
+    ) -> PyResult<Bound<'py, PyArray1<f32>>> {
+        self.on_solid(py, &points, threads, 0.0, tree::signed_distance::<f32x8>)
+    }
+
+    /// The nearest point of the mesh to each point within `max_distance`: `(point, distance,
+    /// prim, u, v)` ([`NearestPoints`]).
+    #[pyo3(signature = (points, max_distance, threads = None))]
+    fn closest_points<'py>(
+        &self,
+        py: Python<'py>,
+        points: PyReadonlyArray2<'py, f32>,
+        max_distance: f32,
+        threads: Option<usize>,
+    ) -> PyResult<NearestPoints<'py>> {
+        let bvh = self.bvh.as_ref();
+        let found = self.per_point(py, &points, threads, None, |p| {
+            tree::closest_point(bvh, p, max_distance)
+        })?;
+        let n = found.len();
+        let mut point = vec![f32::NAN; 3 * n];
+        let (mut dist, mut prim) = (vec![f32::INFINITY; n], vec![-1i64; n]);
+        let (mut u, mut v) = (vec![0f32; n], vec![0f32; n]);
+        for (i, h) in found.iter().enumerate() {
+            let Some(h) = h else { continue };
+            point[3 * i..3 * i + 3].copy_from_slice(&h.point.to_array());
+            (dist[i], prim[i], u[i], v[i]) = (h.dist, i64::from(h.prim), h.u, h.v);
+        }
+        Ok((
+            PyArray1::from_vec(py, point).reshape([n, 3])?,
+            PyArray1::from_vec(py, dist),
+            PyArray1::from_vec(py, prim),
+            PyArray1::from_vec(py, u),
+            PyArray1::from_vec(py, v),
+        ))
+    }
+}
+
+impl Mesh {
+    /// `f` of the closed mesh and every point, spread over threads without the GIL; a
+    /// `ValueError` for a mesh that is not closed.
+    fn on_solid<'py, T: Clone + Send + numpy::Element>(
+        &self,
+        py: Python<'py>,
+        points: &PyReadonlyArray2<'_, f32>,
+        threads: Option<usize>,
+        init: T,
+        f: impl Fn(Solid<'_>, Vec3) -> T + Sync,
+    ) -> PyResult<Bound<'py, PyArray1<T>>> {
+        let solid = self.solid()?;
+        let out = self.per_point(py, points, threads, init, |p| f(solid, p))?;
+        Ok(PyArray1::from_vec(py, out))
+    }
+
+    /// `f` of every point, spread over threads without the GIL.
+    fn per_point<T: Clone + Send>(
+        &self,
+        py: Python<'_>,
+        points: &PyReadonlyArray2<'_, f32>,
+        threads: Option<usize>,
+        init: T,
+        f: impl Fn(Vec3) -> T + Sync,
+    ) -> PyResult<Vec<T>> {
+        let points = arrays::points(points)?;
+        let pool = arrays::pool(threads)?;
+        let mut out = vec![init; points.len()];
+        py.detach(|| {
+            map_into(pool.as_ref(), &points, &mut out, |p, o| {
+                for (p, o) in p.iter().zip(o) {
+                    *o = f(*p);
+                }
+            })
+        });
+        Ok(out)
+    }
+}
