@@ -19,9 +19,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._octoray import Mesh as _Mesh
+from ._octoray import Scene as _Scene
 from ._octoray import __version__
 
-__all__ = ["Mesh", "Hits", "AllHits", "ClosestPoints", "TIERS", "__version__"]
+__all__ = ["Mesh", "Scene", "Hits", "SceneHits", "AllHits", "ClosestPoints", "TIERS", "__version__"]
 
 #: The tier names a mesh accepts.
 TIERS = ("watertight", "exact", "standard")
@@ -42,6 +43,33 @@ class Hits:
     #: Unit geometric normal ``(v1 - v0) x (v2 - v0)`` of the face hit (n, 3); 0 for a miss.
     normal: np.ndarray
     #: Whether the ray met the face's front (the side its normal points to).
+    front: np.ndarray
+
+    @property
+    def hit(self) -> np.ndarray:
+        """Whether each ray hit anything."""
+        return self.prim >= 0
+
+
+@dataclass(frozen=True)
+class SceneHits:
+    """First hits through a scene, one entry per ray."""
+
+    #: Ray parameter of the hit (float32); ``inf`` for a miss.
+    t: np.ndarray
+    #: Index of the primitive in its geometry (int64); ``-1`` for a miss.
+    prim: np.ndarray
+    #: Index of the geometry (int64); ``-1`` for a miss.
+    geom: np.ndarray
+    #: Index of the instance (int64); ``-1`` for a miss.
+    inst: np.ndarray
+    #: Barycentric weights on a triangle (float32; 0 on a sphere).
+    u: np.ndarray
+    v: np.ndarray
+    #: Unit geometric normal in world space (n, 3): a triangle's ``(v1 - v0) x (v2 - v0)`` of its
+    #: placed vertices, a sphere's outward normal; 0 for a miss.
+    normal: np.ndarray
+    #: Whether the ray met the front (the side the normal points to).
     front: np.ndarray
 
     @property
@@ -187,3 +215,104 @@ class Mesh:
         p = _rows(points, 3, "points")
         d = float(max_distance)
         return ClosestPoints(*self._mesh.closest_points(p, d, _threads(threads)))
+
+
+def _placement(transform):
+    """An object-to-world matrix, (4, 4) or (3, 4), as its 12 top entries by rows."""
+    if transform is None:
+        return [1.0, 0, 0, 0, 0, 1.0, 0, 0, 0, 0, 1.0, 0]
+    m = np.asarray(transform, dtype=np.float64)
+    if m.shape == (4, 4):
+        if not np.array_equal(m[3], [0, 0, 0, 1]):
+            raise ValueError("a (4, 4) transform must be affine: last row (0, 0, 0, 1)")
+        m = m[:3]
+    if m.shape != (3, 4):
+        raise ValueError(f"transform must have shape (4, 4) or (3, 4), got {m.shape}")
+    return m.ravel().tolist()
+
+
+def _mask(mask, n):
+    """A scalar mask or one per ray as a contiguous uint32 (n,) array."""
+    a = np.asarray(mask)
+    if a.size and not np.issubdtype(a.dtype, np.integer):
+        raise TypeError(f"mask must be integers, got {a.dtype}")
+    if (a < 0).any() or (a > 0xFFFFFFFF).any():
+        raise ValueError("mask must lie in [0, 2**32)")
+    if a.ndim > 1 or (a.ndim == 1 and a.shape[0] != n):
+        raise ValueError(f"mask must be a scalar or have shape ({n},), got {a.shape}")
+    return np.ascontiguousarray(np.broadcast_to(a.astype(np.uint32), (n,)))
+
+
+class Scene:
+    """Triangle meshes and sphere sets (geometries) placed in the world by instances.
+
+    Add geometries, place them with :meth:`add_instance`, then query; the scene commits itself
+    (builds its top level) before the first query after a change. ``tier``: one of
+    :data:`TIERS` (spheres are always traced with the cancellation-free test).
+    """
+
+    def __init__(self, tier="watertight"):
+        if not isinstance(tier, str):
+            raise TypeError(f"tier must be a string, got {type(tier).__name__}")
+        self._scene = _Scene(tier)
+        self._changed = True
+
+    @property
+    def tier(self) -> str:
+        """The tier triangles are answered with."""
+        return self._scene.tier
+
+    def add_mesh(self, vertices, faces) -> int:
+        """Adds a triangle mesh; returns its geometry index."""
+        vertices = _rows(vertices, 3, "vertices")
+        faces = np.asarray(faces)
+        if faces.size and not np.issubdtype(faces.dtype, np.integer):
+            raise TypeError(f"faces must be integers, got {faces.dtype}")
+        self._changed = True
+        return self._scene.add_mesh(vertices, _rows(faces, 3, "faces", dtype=np.int64))
+
+    def add_spheres(self, centers, radii) -> int:
+        """Adds spheres, ``centers`` (n, 3) and ``radii`` (n,) or one radius; returns their
+        geometry index."""
+        centers = _rows(centers, 3, "centers")
+        self._changed = True
+        return self._scene.add_spheres(centers, _range(radii, centers.shape[0], "radii"))
+
+    def add_instance(self, geometries, transform=None, mask=0xFFFFFFFF) -> int:
+        """Places geometries (an index or a list of them, all meshes or all sphere sets, one
+        tree over them) by the object-to-world matrix ``transform`` ((4, 4) or (3, 4); the
+        identity when None), visible to rays whose mask shares a bit with ``mask``; returns the
+        instance index. Raises ``ValueError`` for a matrix that is not finite or not
+        invertible."""
+        g = np.atleast_1d(np.asarray(geometries))
+        if g.size and not np.issubdtype(g.dtype, np.integer):
+            raise TypeError(f"geometries must be integers, got {g.dtype}")
+        if g.ndim != 1 or (g < 0).any() or (g > 0xFFFFFFFF).any():
+            raise ValueError("geometries must be geometry indices")
+        mask = int(_mask(mask, 1)[0])
+        self._changed = True
+        return self._scene.add_instance(g.tolist(), _placement(transform), mask)
+
+    def commit(self):
+        """Builds the top level over the instances (done by the next query otherwise)."""
+        self._scene.commit()
+        self._changed = False
+
+    def _query(self, rays, t_min, t_max, mask):
+        if self._changed:
+            self.commit()
+        rays = _rows(rays, 6, "rays")
+        n = rays.shape[0]
+        return rays, _range(t_min, n, "t_min"), _range(t_max, n, "t_max"), _mask(mask, n)
+
+    def closest(self, rays, t_min=0.0, t_max=np.inf, mask=0xFFFFFFFF, threads=None) -> SceneHits:
+        """The first hit of each ray (rows ``ox, oy, oz, dx, dy, dz``) with ``t`` in
+        ``[t_min, t_max]``, among the instances whose mask shares a bit with the ray's (scalars
+        or one per ray)."""
+        q = self._query(rays, t_min, t_max, mask)
+        return SceneHits(*self._scene.closest(*q, _threads(threads)))
+
+    def occluded(self, rays, t_min=0.0, t_max=np.inf, mask=0xFFFFFFFF, threads=None) -> np.ndarray:
+        """Whether each ray hits anything, as :meth:`closest` sees the scene (bool array)."""
+        q = self._query(rays, t_min, t_max, mask)
+        return self._scene.occluded(*q, _threads(threads))

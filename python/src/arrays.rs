@@ -3,7 +3,7 @@
 
 use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use octoray::glam::Vec3;
-use octoray::prim::Ray;
+use octoray::prim::{PackedTriangle, Ray, VertexTriangle};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use rayon::prelude::*;
@@ -66,6 +66,45 @@ pub fn rays(
         .collect())
 }
 
+/// Triangles from `vertices` (n, 3) and `faces` (m, 3) indices into them: a `ValueError` for
+/// a bad shape or an index out of range.
+pub fn triangles(
+    vertices: &PyReadonlyArray2<'_, f32>,
+    faces: &PyReadonlyArray2<'_, i64>,
+) -> PyResult<Vec<VertexTriangle>> {
+    let v = rows(vertices, 3, "vertices")?;
+    let f = rows(faces, 3, "faces")?;
+    let n = v.len() / 3;
+    let vertex = |i: i64| -> PyResult<Vec3> {
+        usize::try_from(i)
+            .ok()
+            .filter(|&i| i < n)
+            .map(|i| Vec3::new(v[3 * i], v[3 * i + 1], v[3 * i + 2]))
+            .ok_or_else(|| {
+                PyValueError::new_err(format!("face index {i} out of range for {n} vertices"))
+            })
+    };
+    f.chunks_exact(3)
+        .map(|t| {
+            Ok(VertexTriangle::new(
+                vertex(t[0])?,
+                vertex(t[1])?,
+                vertex(t[2])?,
+            ))
+        })
+        .collect()
+}
+
+/// The standard tier's layout of `tris`.
+pub fn packed(tris: &[VertexTriangle]) -> Vec<PackedTriangle> {
+    tris.iter()
+        .map(|t| {
+            let [a, b, c] = t.vertices();
+            PackedTriangle::new(a, b, c)
+        })
+        .collect()
+}
+
 /// Points from rows `(x, y, z)`.
 pub fn points(rows3: &PyReadonlyArray2<'_, f32>) -> PyResult<Vec<Vec3>> {
     let r = rows(rows3, 3, "points")?;
@@ -87,19 +126,21 @@ pub fn pool(threads: Option<usize>) -> PyResult<Option<rayon::ThreadPool>> {
     }
 }
 
-/// `out[i] = f(&input[i])` for every `i`, in chunks spread over `pool`'s threads (the answer
-/// does not depend on the split).
+/// `f(first, input chunk, out chunk)` over chunks of `input` and `out` (the same length)
+/// spread over `pool`'s threads, `first` the chunk's first index (the answer does not depend on
+/// the split).
 pub fn map_into<I: Sync, O: Send>(
     pool: Option<&rayon::ThreadPool>,
     input: &[I],
     out: &mut [O],
-    f: impl Fn(&[I], &mut [O]) + Sync,
+    f: impl Fn(usize, &[I], &mut [O]) + Sync,
 ) {
     let mut run = || {
         input
             .par_chunks(CHUNK)
             .zip(out.par_chunks_mut(CHUNK))
-            .for_each(|(i, o)| f(i, o));
+            .enumerate()
+            .for_each(|(c, (i, o))| f(c * CHUNK, i, o));
     };
     match pool {
         Some(p) => p.install(run),

@@ -8,6 +8,8 @@
 
 mod arrays;
 mod mesh;
+mod scene;
+mod tier;
 
 use pyo3::prelude::*;
 
@@ -15,6 +17,7 @@ use pyo3::prelude::*;
 #[pymodule]
 fn _octoray(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<mesh::Mesh>()?;
+    m.add_class::<scene::Scene>()?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

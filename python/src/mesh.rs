@@ -1,6 +1,7 @@
 //! `Mesh`: one triangle mesh, its 8-wide BVH built once, and the batched queries over it.
 
 use crate::arrays::{self, map_into};
+use crate::tier::Tier;
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use octoray::bvh::{Bvh8, Solid};
 use octoray::f32x8;
@@ -13,38 +14,6 @@ use octoray::tree;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use rayon::prelude::*;
-
-/// The triangle tier a mesh answers rays with.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Tier {
-    /// Möller–Trumbore: stated error bounds, rays may slip through shared edges.
-    Standard,
-    /// No ray escapes a closed mesh.
-    Watertight,
-    /// Every hit or miss exact for the f32 inputs.
-    Exact,
-}
-
-impl Tier {
-    fn parse(name: &str) -> PyResult<Self> {
-        match name {
-            "standard" => Ok(Self::Standard),
-            "watertight" => Ok(Self::Watertight),
-            "exact" => Ok(Self::Exact),
-            _ => Err(PyValueError::new_err(format!(
-                "unknown tier {name:?}: expected \"watertight\", \"exact\" or \"standard\""
-            ))),
-        }
-    }
-
-    fn name(self) -> &'static str {
-        match self {
-            Self::Standard => "standard",
-            Self::Watertight => "watertight",
-            Self::Exact => "exact",
-        }
-    }
-}
 
 /// A triangle mesh and its BVH: first hits, occlusion and every hit along rays with the chosen
 /// tier; exact crossing counts, containment, winding numbers and signed distance (closed
@@ -128,13 +97,13 @@ impl Mesh {
     fn first_hits(&self, rays: &[Ray], pool: Option<&rayon::ThreadPool>) -> Vec<Option<Hit>> {
         let mut hits = vec![None; rays.len()];
         match (self.tier, &self.packed) {
-            (Tier::Standard, Some(p)) => map_into(pool, rays, &mut hits, |r, o| {
+            (Tier::Standard, Some(p)) => map_into(pool, rays, &mut hits, |_, r, o| {
                 tree::closest::<f32x8, MollerTrumbore>(p.as_ref(), r, o)
             }),
-            (Tier::Exact, _) => map_into(pool, rays, &mut hits, |r, o| {
+            (Tier::Exact, _) => map_into(pool, rays, &mut hits, |_, r, o| {
                 tree::closest::<f32x8, Exact>(self.bvh.as_ref(), r, o)
             }),
-            _ => map_into(pool, rays, &mut hits, |r, o| {
+            _ => map_into(pool, rays, &mut hits, |_, r, o| {
                 tree::closest::<f32x8, Watertight>(self.bvh.as_ref(), r, o)
             }),
         }
@@ -188,39 +157,11 @@ impl Mesh {
         tier: &str,
     ) -> PyResult<Self> {
         let tier = Tier::parse(tier)?;
-        let v = arrays::rows(&vertices, 3, "vertices")?;
-        let f = arrays::rows(&faces, 3, "faces")?;
-        let n = v.len() / 3;
-        let vertex = |i: i64| -> PyResult<Vec3> {
-            usize::try_from(i)
-                .ok()
-                .filter(|&i| i < n)
-                .map(|i| Vec3::new(v[3 * i], v[3 * i + 1], v[3 * i + 2]))
-                .ok_or_else(|| {
-                    PyValueError::new_err(format!("face index {i} out of range for {n} vertices"))
-                })
-        };
-        let tris = f
-            .chunks_exact(3)
-            .map(|t| {
-                Ok(VertexTriangle::new(
-                    vertex(t[0])?,
-                    vertex(t[1])?,
-                    vertex(t[2])?,
-                ))
-            })
-            .collect::<PyResult<Vec<_>>>()?;
+        let tris = arrays::triangles(&vertices, &faces)?;
         py.detach(move || -> Result<Self, String> {
             let bvh = Bvh8::try_build(&tris).map_err(|e| e.to_string())?;
             let packed = if tier == Tier::Standard {
-                let p: Vec<PackedTriangle> = tris
-                    .iter()
-                    .map(|t| {
-                        let [a, b, c] = t.vertices();
-                        PackedTriangle::new(a, b, c)
-                    })
-                    .collect();
-                Some(Bvh8::try_build(&p).map_err(|e| e.to_string())?)
+                Some(Bvh8::try_build(&arrays::packed(&tris)).map_err(|e| e.to_string())?)
             } else {
                 None
             };
@@ -305,13 +246,13 @@ impl Mesh {
         let pool = arrays::pool(threads)?;
         let mut out = vec![false; rays.len()];
         py.detach(|| match (self.tier, &self.packed) {
-            (Tier::Standard, Some(p)) => map_into(pool.as_ref(), &rays, &mut out, |r, o| {
+            (Tier::Standard, Some(p)) => map_into(pool.as_ref(), &rays, &mut out, |_, r, o| {
                 tree::occluded::<f32x8, MollerTrumbore>(p.as_ref(), r, o)
             }),
-            (Tier::Exact, _) => map_into(pool.as_ref(), &rays, &mut out, |r, o| {
+            (Tier::Exact, _) => map_into(pool.as_ref(), &rays, &mut out, |_, r, o| {
                 tree::occluded::<f32x8, Exact>(self.bvh.as_ref(), r, o)
             }),
-            _ => map_into(pool.as_ref(), &rays, &mut out, |r, o| {
+            _ => map_into(pool.as_ref(), &rays, &mut out, |_, r, o| {
                 tree::occluded::<f32x8, Watertight>(self.bvh.as_ref(), r, o)
             }),
         });
@@ -357,7 +298,7 @@ impl Mesh {
         let mut out = vec![0u32; rays.len()];
         let bvh = self.bvh.as_ref();
         py.detach(|| {
-            map_into(pool.as_ref(), &rays, &mut out, |r, o| {
+            map_into(pool.as_ref(), &rays, &mut out, |_, r, o| {
                 for (ray, o) in r.iter().zip(o) {
                     *o = tree::crossings_ray::<f32x8>(bvh, ray);
                 }
@@ -465,7 +406,7 @@ impl Mesh {
         let pool = arrays::pool(threads)?;
         let mut out = vec![init; points.len()];
         py.detach(|| {
-            map_into(pool.as_ref(), &points, &mut out, |p, o| {
+            map_into(pool.as_ref(), &points, &mut out, |_, p, o| {
                 for (p, o) in p.iter().zip(o) {
                     *o = f(*p);
                 }
