@@ -39,9 +39,25 @@ def sponza():
         if p["name"] == "bvh":
             path = os.path.join(os.path.dirname(p["manifest_path"]), "media", "sponza.obj")
             if os.path.exists(path):
-                m = trimesh.load(path, force="mesh", process=False)
-                return m.vertices, m.faces
+                return read_obj(path)
     return None
+
+
+def read_obj(path):
+    """Positions and fan-triangulated faces of an OBJ file (materials and textures ignored)."""
+    v, f = [], []
+    with open(path) as fh:
+        for line in fh:
+            t = line.split()
+            if not t:
+                continue
+            if t[0] == "v":
+                v.append([float(x) for x in t[1:4]])
+            elif t[0] == "f":
+                idx = [int(x.split("/")[0]) for x in t[1:]]
+                idx = [i - 1 if i > 0 else len(v) + i for i in idx]
+                f.extend([idx[0], idx[k], idx[k + 1]] for k in range(1, len(idx) - 1))
+    return np.array(v), np.array(f)
 
 
 def terrain(n=512):
@@ -110,11 +126,16 @@ def systems(v, f):
         scene = o3d.t.geometry.RaycastingScene()
         scene.add_triangles(o3d.core.Tensor(v.astype(np.float32)), o3d.core.Tensor(f.astype(np.uint32)))
 
+        def valid(ids):
+            # Open3D's invalid ID is 2**32 - 1: -1, a miss, as the others report it.
+            ids = ids.numpy().astype(np.int64)
+            return np.where(ids == 0xFFFFFFFF, -1, ids)
+
         def rays(o, d):
             return o3d.core.Tensor(np.hstack([o, d]).astype(np.float32))
 
         out["Open3D (Embree 3)"] = (
-            lambda o, d, t: scene.cast_rays(rays(o, d), nthreads=t or 0)["primitive_ids"].numpy(),
+            lambda o, d, t: valid(scene.cast_rays(rays(o, d), nthreads=t or 0)["primitive_ids"]),
             lambda o, d, t: scene.test_occlusions(rays(o, d), nthreads=t or 0).numpy(),
         )
     except Exception as e:

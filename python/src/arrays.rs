@@ -95,6 +95,38 @@ pub fn triangles(
         .collect()
 }
 
+/// Each triangle's unit geometric normal `(v1 − v0) × (v2 − v0)`, formed in f64 (no overflow
+/// or underflow at any scale) and rounded to f32; 0 for a degenerate or non-finite triangle.
+pub fn unit_normals(tris: &[VertexTriangle]) -> Vec<[f32; 3]> {
+    let f64s = |p: Vec3| [p.x, p.y, p.z].map(f64::from);
+    tris.iter()
+        .map(|t| {
+            let [a, b, c] = t.vertices().map(f64s);
+            let (e, f) = (
+                [0, 1, 2].map(|k| b[k] - a[k]),
+                [0, 1, 2].map(|k| c[k] - a[k]),
+            );
+            let n = [
+                e[1] * f[2] - e[2] * f[1],
+                e[2] * f[0] - e[0] * f[2],
+                e[0] * f[1] - e[1] * f[0],
+            ];
+            let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+            if len > 0.0 && len.is_finite() {
+                n.map(|x| (x / len) as f32)
+            } else {
+                [0.0; 3]
+            }
+        })
+        .collect()
+}
+
+/// Whether a ray along `dir` meets the side a normal `n` points to (`n·d ≤ 0`, in f64).
+pub fn meets_front(n: [f32; 3], dir: Vec3) -> bool {
+    let d = [dir.x, dir.y, dir.z].map(f64::from);
+    (0..3).map(|k| f64::from(n[k]) * d[k]).sum::<f64>() <= 0.0
+}
+
 /// The standard tier's layout of `tris`.
 pub fn packed(tris: &[VertexTriangle]) -> Vec<PackedTriangle> {
     tris.iter()

@@ -9,7 +9,6 @@ use octoray::glam::Vec3;
 use octoray::hit::Hit;
 use octoray::kernels::{Exact, Kernel, MollerTrumbore, Watertight};
 use octoray::prim::{PackedTriangle, Ray, VertexTriangle};
-use octoray::shading::Shade;
 use octoray::tree;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -22,6 +21,8 @@ use rayon::prelude::*;
 pub struct Mesh {
     tier: Tier,
     tris: Vec<VertexTriangle>,
+    /// Each triangle's unit geometric normal.
+    normals: Vec<[f32; 3]>,
     bvh: Bvh8<VertexTriangle>,
     /// The standard tier's layout of the same triangles.
     packed: Option<Bvh8<PackedTriangle>>,
@@ -168,6 +169,7 @@ impl Mesh {
             let open = Solid::new(bvh.as_ref(), &tris).err().map(|e| e.to_string());
             Ok(Self {
                 tier,
+                normals: arrays::unit_normals(&tris),
                 tris,
                 bvh,
                 packed,
@@ -217,10 +219,9 @@ impl Mesh {
         for (i, (h, ray)) in hits.iter().zip(&rays).enumerate() {
             let Some(h) = h else { continue };
             (t[i], prim[i], u[i], v[i]) = (h.t, i64::from(h.prim), h.u, h.v);
-            let s = self.tris[h.prim as usize].surface(ray, h);
-            let g = if s.front_face { s.normal } else { -s.normal };
-            normal[3 * i..3 * i + 3].copy_from_slice(&g.to_array());
-            front[i] = s.front_face;
+            let n = self.normals[h.prim as usize];
+            normal[3 * i..3 * i + 3].copy_from_slice(&n);
+            front[i] = arrays::meets_front(n, ray.dir);
         }
         Ok((
             PyArray1::from_vec(py, t),

@@ -16,7 +16,8 @@ use pyo3::prelude::*;
 
 /// A geometry's primitives, kept to shade its hits.
 enum Shapes {
-    Triangles(Vec<VertexTriangle>),
+    /// Each triangle's unit geometric normal.
+    Triangles(Vec<[f32; 3]>),
     Spheres(Vec<PackedSphere>),
 }
 
@@ -114,15 +115,16 @@ impl Scene {
     /// triangle's `(v1 − v0) × (v2 − v0)` in world space also turns with the sign of `det A`.
     fn shade(&self, ray: &Ray, h: &Hit) -> ([f32; 3], bool) {
         let place = &self.transforms[h.inst as usize];
-        let object = place.apply(ray);
-        let (s, triangle) = match &self.shapes[h.geom as usize] {
-            Shapes::Triangles(t) => (t[h.prim as usize].surface(&object, h), true),
-            Shapes::Spheres(s) => (s[h.prim as usize].surface(&object, h), false),
+        let (g, triangle) = match &self.shapes[h.geom as usize] {
+            Shapes::Triangles(n) => (Vec3::from(n[h.prim as usize]), true),
+            Shapes::Spheres(s) => {
+                let s = s[h.prim as usize].surface(&place.apply(ray), h);
+                (if s.front_face { s.normal } else { -s.normal }, false)
+            }
         };
-        let g = if s.front_face { s.normal } else { -s.normal };
         if place.is_identity() {
             // The object is the world: the mesh's own answer, bit for bit.
-            return (g.to_array(), s.front_face);
+            return (g.to_array(), arrays::meets_front(g.to_array(), ray.dir));
         }
         let a = place.rows.map(|r| r.map(f64::from));
         let g = [f64::from(g.x), f64::from(g.y), f64::from(g.z)];
@@ -138,10 +140,8 @@ impl Scene {
         if !(len > 0.0 && len.is_finite()) {
             return ([0.0; 3], true);
         }
-        let n = n.map(|x| sign * x / len);
-        let d = [ray.dir.x, ray.dir.y, ray.dir.z].map(f64::from);
-        let facing = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
-        (n.map(|x| x as f32), facing <= 0.0)
+        let n = n.map(|x| (sign * x / len) as f32);
+        (n, arrays::meets_front(n, ray.dir))
     }
 
     /// A `RuntimeError` unless the scene is committed.
@@ -213,7 +213,8 @@ impl Scene {
                 Layout::Packed(s) => s.add_triangles(&arrays::packed(&tris)),
             })
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
-        self.shapes.push(Shapes::Triangles(tris));
+        self.shapes
+            .push(Shapes::Triangles(arrays::unit_normals(&tris)));
         Ok(geom)
     }
 
