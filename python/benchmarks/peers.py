@@ -169,11 +169,21 @@ def main():
                                      "1" if threads == 1 else "all", k,
                                      len(o) / best[k] / 1e6, best[k] / ours, hits[k]))
                     print(rows[-len(sys_):])
-    cpu = platform.processor() or platform.machine()
+    cpu = platform.machine()
+    try:
+        with open("/proc/cpuinfo") as fh:
+            cpu = next(line.split(":", 1)[1].strip() for line in fh if line.startswith("model name"))
+        with open("/proc/cpuinfo") as fh:
+            flags = fh.read()
+        cpu += " (AVX-512)" if "avx512f" in flags else " (AVX2)" if "avx2" in flags else ""
+    except (OSError, StopIteration):
+        pass
     lines = [
         "# Python ray casting: octoray, embreex, Open3D",
         "",
-        f"Written by `python python/benchmarks/peers.py` on {cpu}, {os.cpu_count()} cores; "
+        f"Written by `python python/benchmarks/peers.py` on {cpu}, {os.cpu_count()} cores, the "
+        "wheel built for this CPU (`maturin build --release` inside the repository, whose "
+        "`.cargo/config.toml` sets `-C target-cpu=native`); "
         f"best of {args.rounds} alternating rounds; {WIDTH}x{HEIGHT} rays per case; Python "
         "overhead (array conversion, result arrays) included for every system. "
         "embreex traces on the calling thread only (its `all` rows equal its `1`).",
