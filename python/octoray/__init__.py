@@ -22,7 +22,18 @@ from ._octoray import Mesh as _Mesh
 from ._octoray import Scene as _Scene
 from ._octoray import __version__
 
-__all__ = ["Mesh", "Scene", "Hits", "SceneHits", "AllHits", "ClosestPoints", "TIERS", "__version__"]
+__all__ = [
+    "Mesh",
+    "Scene",
+    "Hits",
+    "SceneHits",
+    "AllHits",
+    "SceneAllHits",
+    "ClosestPoints",
+    "SceneClosestPoints",
+    "TIERS",
+    "__version__",
+]
 
 #: The tier names a mesh accepts.
 TIERS = ("watertight", "exact", "standard")
@@ -104,6 +115,41 @@ class ClosestPoints:
     #: Index of its face (int64); ``-1`` where none lies within the bound.
     prim: np.ndarray
     #: Its barycentric weights on the face (float32).
+    u: np.ndarray
+    v: np.ndarray
+
+
+@dataclass(frozen=True)
+class SceneAllHits:
+    """Every hit of every ray through a scene, flat, ordered by ray then ``t`` (then instance,
+    geometry, primitive); each primitive once per ray."""
+
+    #: Index of the ray (int64).
+    ray: np.ndarray
+    #: Index of the primitive in its geometry, of the geometry and of the instance (int64).
+    prim: np.ndarray
+    geom: np.ndarray
+    inst: np.ndarray
+    #: Ray parameter (float32).
+    t: np.ndarray
+    #: Barycentric weights on a triangle (float32; 0 on a sphere).
+    u: np.ndarray
+    v: np.ndarray
+
+
+@dataclass(frozen=True)
+class SceneClosestPoints:
+    """The nearest point of a scene to each query point."""
+
+    #: The nearest point (n, 3) float32; NaN where none lies within the bound.
+    point: np.ndarray
+    #: Its distance (float32); ``inf`` where none lies within the bound.
+    distance: np.ndarray
+    #: Its primitive, geometry and instance (int64); ``-1`` where none lies within the bound.
+    prim: np.ndarray
+    geom: np.ndarray
+    inst: np.ndarray
+    #: Its barycentric weights on a triangle (float32; 0 on a sphere).
     u: np.ndarray
     v: np.ndarray
 
@@ -316,3 +362,18 @@ class Scene:
         """Whether each ray hits anything, as :meth:`closest` sees the scene (bool array)."""
         q = self._query(rays, t_min, t_max, mask)
         return self._scene.occluded(*q, _threads(threads))
+
+    def all_hits(self, rays, t_min=0.0, t_max=np.inf, mask=0xFFFFFFFF, threads=None) -> SceneAllHits:
+        """Every hit of each ray with ``t`` in ``[t_min, t_max]``, as :meth:`closest` sees the
+        scene; each primitive once per ray."""
+        q = self._query(rays, t_min, t_max, mask)
+        return SceneAllHits(*self._scene.all_hits(*q, _threads(threads)))
+
+    def closest_points(self, points, max_distance=np.inf, mask=0xFFFFFFFF, threads=None) -> SceneClosestPoints:
+        """The nearest point of the scene (its instances whose mask shares a bit with
+        ``mask``) to each point, within ``max_distance``."""
+        if self._changed:
+            self.commit()
+        p = _rows(points, 3, "points")
+        m = int(_mask(mask, 1)[0])
+        return SceneClosestPoints(*self._scene.closest_points(p, float(max_distance), m, _threads(threads)))

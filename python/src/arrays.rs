@@ -3,7 +3,9 @@
 
 use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use octoray::glam::Vec3;
+use octoray::hit::Hit;
 use octoray::prim::{PackedTriangle, Ray, VertexTriangle};
+use octoray::tree::AllHits;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use rayon::prelude::*;
@@ -173,6 +175,55 @@ pub fn map_into<I: Sync, O: Send>(
             .zip(out.par_chunks_mut(CHUNK))
             .enumerate()
             .for_each(|(c, (i, o))| f(c * CHUNK, i, o));
+    };
+    match pool {
+        Some(p) => p.install(run),
+        None => run(),
+    }
+}
+
+/// Hits collected per walk of an all-hits query: a ray with more walks again after the last.
+const PAGE: usize = 64;
+
+/// Every hit of one ray, a page at a time: `walk(after, page)` stores the hits after `after`
+/// (in hit order) at the front of `page`; each is appended to `out` with the ray's index `i`.
+pub fn paged(
+    i: usize,
+    out: &mut Vec<(usize, Hit)>,
+    mut walk: impl FnMut(Option<Hit>, &mut [Hit]) -> AllHits,
+) {
+    let mut page = [Hit::default(); PAGE];
+    let mut after = None;
+    loop {
+        let found = walk(after, &mut page);
+        out.extend(page[..found.stored].iter().map(|h| (i, *h)));
+        if found.complete || found.stored == 0 {
+            return;
+        }
+        after = Some(page[found.stored - 1]);
+    }
+}
+
+/// `each(i, &input[i], out)` for every `i`, spread over `pool`'s threads in chunks, the outputs
+/// concatenated in input order.
+pub fn collect<I: Sync, O: Send>(
+    pool: Option<&rayon::ThreadPool>,
+    input: &[I],
+    each: impl Fn(usize, &I, &mut Vec<O>) + Sync,
+) -> Vec<O> {
+    let run = || -> Vec<O> {
+        let chunks: Vec<Vec<O>> = input
+            .par_chunks(CHUNK)
+            .enumerate()
+            .map(|(c, chunk)| {
+                let mut out = Vec::new();
+                for (k, x) in chunk.iter().enumerate() {
+                    each(c * CHUNK + k, x, &mut out);
+                }
+                out
+            })
+            .collect();
+        chunks.into_iter().flatten().collect()
     };
     match pool {
         Some(p) => p.install(run),

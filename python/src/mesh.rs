@@ -7,12 +7,11 @@ use octoray::bvh::{Bvh8, Solid};
 use octoray::f32x8;
 use octoray::glam::Vec3;
 use octoray::hit::Hit;
-use octoray::kernels::{Exact, Kernel, MollerTrumbore, Watertight};
+use octoray::kernels::{Exact, MollerTrumbore, Watertight};
 use octoray::prim::{PackedTriangle, Ray, VertexTriangle};
 use octoray::tree;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use rayon::prelude::*;
 
 /// A triangle mesh and its BVH: first hits, occlusion and every hit along rays with the chosen
 /// tier; exact crossing counts, containment, winding numbers and signed distance (closed
@@ -60,28 +59,6 @@ type NearestPoints<'py> = (
     Bound<'py, PyArray1<f32>>,
 );
 
-/// Hits collected per walk of the all-hits query: a ray with more walks again after the last.
-const PAGE: usize = 64;
-
-/// Every hit of `ray` with kernel `K`, in hit order, appended to `out` with the ray's index.
-fn every_hit<K: Kernel<f32x8>>(
-    bvh: octoray::bvh::Bvh8Ref<'_, K::Prim>,
-    i: usize,
-    ray: &Ray,
-    out: &mut Vec<(usize, Hit)>,
-) {
-    let mut page = [Hit::default(); PAGE];
-    let mut after = None;
-    loop {
-        let found = tree::all_hits_ray::<f32x8, K>(bvh, ray, after, &mut page);
-        out.extend(page[..found.stored].iter().map(|h| (i, *h)));
-        if found.complete || found.stored == 0 {
-            return;
-        }
-        after = Some(page[found.stored - 1]);
-    }
-}
-
 impl Mesh {
     /// The closed mesh as a [`Solid`], or the `ValueError` saying why it is not one.
     fn solid(&self) -> PyResult<Solid<'_>> {
@@ -114,33 +91,17 @@ impl Mesh {
     /// Every hit of every ray with this mesh's tier, by ray then hit order (the all-hits
     /// query's body).
     fn every_hits(&self, rays: &[Ray], pool: Option<&rayon::ThreadPool>) -> Vec<(usize, Hit)> {
-        let run = || -> Vec<(usize, Hit)> {
-            let chunks: Vec<Vec<(usize, Hit)>> = rays
-                .par_chunks(256)
-                .enumerate()
-                .map(|(c, chunk)| {
-                    let mut out = Vec::new();
-                    for (k, ray) in chunk.iter().enumerate() {
-                        let i = c * 256 + k;
-                        match (self.tier, &self.packed) {
-                            (Tier::Standard, Some(p)) => {
-                                every_hit::<MollerTrumbore>(p.as_ref(), i, ray, &mut out)
-                            }
-                            (Tier::Exact, _) => {
-                                every_hit::<Exact>(self.bvh.as_ref(), i, ray, &mut out)
-                            }
-                            _ => every_hit::<Watertight>(self.bvh.as_ref(), i, ray, &mut out),
-                        }
-                    }
-                    out
-                })
-                .collect();
-            chunks.concat()
-        };
-        match pool {
-            Some(p) => p.install(run),
-            None => run(),
-        }
+        arrays::collect(pool, rays, |i, ray, out| match (self.tier, &self.packed) {
+            (Tier::Standard, Some(p)) => arrays::paged(i, out, |after, page| {
+                tree::all_hits_ray::<f32x8, MollerTrumbore>(p.as_ref(), ray, after, page)
+            }),
+            (Tier::Exact, _) => arrays::paged(i, out, |after, page| {
+                tree::all_hits_ray::<f32x8, Exact>(self.bvh.as_ref(), ray, after, page)
+            }),
+            _ => arrays::paged(i, out, |after, page| {
+                tree::all_hits_ray::<f32x8, Watertight>(self.bvh.as_ref(), ray, after, page)
+            }),
+        })
     }
 }
 

@@ -7,10 +7,11 @@ use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArra
 use octoray::f32x8;
 use octoray::glam::{Affine3A, Mat3, Vec3};
 use octoray::hit::Hit;
-use octoray::kernels::{Exact, Kernel, MollerTrumbore, StableSphere, Watertight};
+use octoray::kernels::{Exact, Kernel, MollerTrumbore, NearestPoint, StableSphere, Watertight};
 use octoray::prim::{PackedSphere, PackedTriangle, Primitive, Ray, VertexTriangle};
 use octoray::scene::{Scene as Built, Tracer, Transform};
 use octoray::shading::Shade;
+use octoray::tree::PointHit;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
@@ -52,6 +53,30 @@ type FirstHits<'py> = (
     Bound<'py, PyArray1<bool>>,
 );
 
+/// Every hit, flat, by ray then hit order: ray index, primitive, geometry, instance, `t`, `u`,
+/// `v`.
+type EveryHit<'py> = (
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<f32>>,
+    Bound<'py, PyArray1<f32>>,
+    Bound<'py, PyArray1<f32>>,
+);
+
+/// The closest points: the point, its distance (inf: none within the bound), primitive,
+/// geometry and instance (−1: none), `u`, `v`.
+type NearestPoints<'py> = (
+    Bound<'py, PyArray2<f32>>,
+    Bound<'py, PyArray1<f32>>,
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<f32>>,
+    Bound<'py, PyArray1<f32>>,
+);
+
 /// The first hit of every ray through `scene` with triangle tier `KT`, ray `i` under `masks[i]`.
 fn first_hits<KT: Kernel<f32x8>>(
     scene: &Built<KT::Prim, PackedSphere>,
@@ -85,6 +110,46 @@ where
     let mut out = vec![false; rays.len()];
     map_into(pool, rays, &mut out, |first, r, o| {
         tracer.occluded(r, &masks[first..first + r.len()], o)
+    });
+    out
+}
+
+/// Every hit of every ray through `scene` with triangle tier `KT`, ray `i` under `masks[i]`:
+/// `(ray, hit)` by ray, then in hit order.
+fn every_hit<KT: Kernel<f32x8>>(
+    scene: &Built<KT::Prim, PackedSphere>,
+    rays: &[Ray],
+    masks: &[u32],
+    pool: Option<&rayon::ThreadPool>,
+) -> Vec<(usize, Hit)>
+where
+    KT::Prim: Primitive,
+{
+    let tracer = Tracer::<f32x8, KT, StableSphere>::new(scene.as_ref());
+    arrays::collect(pool, rays, |i, ray, out| {
+        arrays::paged(i, out, |after, page| {
+            tracer.all_hits_ray(ray, masks[i], after, page)
+        })
+    })
+}
+
+/// The nearest point of `scene` to every point within `max_dist`, under `mask`.
+fn nearest<KT: Kernel<f32x8>>(
+    scene: &Built<KT::Prim, PackedSphere>,
+    points: &[Vec3],
+    max_dist: f32,
+    mask: u32,
+    pool: Option<&rayon::ThreadPool>,
+) -> Vec<Option<PointHit>>
+where
+    KT::Prim: Primitive + NearestPoint,
+{
+    let tracer = Tracer::<f32x8, KT, StableSphere>::new(scene.as_ref());
+    let mut out = vec![None; points.len()];
+    map_into(pool, points, &mut out, |_, p, o| {
+        for (p, o) in p.iter().zip(o) {
+            *o = tracer.closest_point(*p, max_dist, mask);
+        }
     });
     out
 }
@@ -359,5 +424,81 @@ impl Scene {
             (Layout::Vertex(s), _) => occlusion::<Watertight>(s, &rays, &masks, pool),
         });
         Ok(PyArray1::from_vec(py, out))
+    }
+
+    /// Every hit of every ray under its mask, each primitive once per ray: `(ray, prim, geom,
+    /// inst, t, u, v)` flat, by ray then hit order ([`EveryHit`]).
+    #[pyo3(signature = (rays, t_min, t_max, mask, threads = None))]
+    fn all_hits<'py>(
+        &self,
+        py: Python<'py>,
+        rays: PyReadonlyArray2<'py, f32>,
+        t_min: PyReadonlyArray1<'py, f32>,
+        t_max: PyReadonlyArray1<'py, f32>,
+        mask: PyReadonlyArray1<'py, u32>,
+        threads: Option<usize>,
+    ) -> PyResult<EveryHit<'py>> {
+        self.committed()?;
+        let (rays, masks, pool) = Self::query(&rays, &t_min, &t_max, &mask, threads)?;
+        let pool = pool.as_ref();
+        let hits = py.detach(|| match (&self.layout, self.tier) {
+            (Layout::Packed(s), _) => every_hit::<MollerTrumbore>(s, &rays, &masks, pool),
+            (Layout::Vertex(s), Tier::Exact) => every_hit::<Exact>(s, &rays, &masks, pool),
+            (Layout::Vertex(s), _) => every_hit::<Watertight>(s, &rays, &masks, pool),
+        });
+        let ids = |f: fn(&Hit) -> u32| hits.iter().map(|(_, h)| i64::from(f(h))).collect();
+        let floats = |f: fn(&Hit) -> f32| hits.iter().map(|(_, h)| f(h)).collect();
+        Ok((
+            PyArray1::from_vec(py, hits.iter().map(|&(i, _)| i as i64).collect()),
+            PyArray1::from_vec(py, ids(|h| h.prim)),
+            PyArray1::from_vec(py, ids(|h| h.geom)),
+            PyArray1::from_vec(py, ids(|h| h.inst)),
+            PyArray1::from_vec(py, floats(|h| h.t)),
+            PyArray1::from_vec(py, floats(|h| h.u)),
+            PyArray1::from_vec(py, floats(|h| h.v)),
+        ))
+    }
+
+    /// The nearest point of the scene (its instances under `mask`) to each point within
+    /// `max_distance`: `(point, distance, prim, geom, inst, u, v)` ([`NearestPoints`]).
+    #[pyo3(signature = (points, max_distance, mask, threads = None))]
+    fn closest_points<'py>(
+        &self,
+        py: Python<'py>,
+        points: PyReadonlyArray2<'py, f32>,
+        max_distance: f32,
+        mask: u32,
+        threads: Option<usize>,
+    ) -> PyResult<NearestPoints<'py>> {
+        self.committed()?;
+        let points = arrays::points(&points)?;
+        let pool = arrays::pool(threads)?;
+        let pool = pool.as_ref();
+        let found = py.detach(|| match (&self.layout, self.tier) {
+            (Layout::Packed(s), _) => {
+                nearest::<MollerTrumbore>(s, &points, max_distance, mask, pool)
+            }
+            (Layout::Vertex(s), _) => nearest::<Watertight>(s, &points, max_distance, mask, pool),
+        });
+        let n = found.len();
+        let mut point = vec![f32::NAN; 3 * n];
+        let mut dist = vec![f32::INFINITY; n];
+        let (mut prim, mut geom, mut inst) = (vec![-1i64; n], vec![-1i64; n], vec![-1i64; n]);
+        let (mut u, mut v) = (vec![0f32; n], vec![0f32; n]);
+        for (i, h) in found.iter().enumerate() {
+            let Some(h) = h else { continue };
+            point[3 * i..3 * i + 3].copy_from_slice(&h.point.to_array());
+            (dist[i], u[i], v[i]) = (h.dist, h.u, h.v);
+            (prim[i], geom[i], inst[i]) = (h.prim.into(), h.geom.into(), h.inst.into());
+        }
+        Ok((
+            PyArray1::from_vec(py, point).reshape([n, 3])?,
+            PyArray1::from_vec(py, dist),
+            PyArray1::from_vec(py, prim),
+            PyArray1::from_vec(py, geom),
+            PyArray1::from_vec(py, inst),
+            PyArray1::from_vec(py, u),
+            PyArray1::from_vec(py, v),
+        ))
     }
 }
