@@ -1,7 +1,7 @@
 //! numpy arrays in and out: shape checks, rays and points from rows, and the thread split that
 //! every batched query shares.
 
-use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use octoray::glam::Vec3;
 use octoray::hit::Hit;
 use octoray::prim::{PackedTriangle, Ray, VertexTriangle};
@@ -9,6 +9,15 @@ use octoray::tree::AllHits;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use rayon::prelude::*;
+
+/// A float32 column returned to Python.
+pub type F32s<'py> = Bound<'py, PyArray1<f32>>;
+/// An int64 column returned to Python (indices; −1 for none).
+pub type I64s<'py> = Bound<'py, PyArray1<i64>>;
+/// A bool column returned to Python.
+pub type Bools<'py> = Bound<'py, PyArray1<bool>>;
+/// Rows of three float32 (points, normals) returned to Python.
+pub type Rows3<'py> = Bound<'py, PyArray2<f32>>;
 
 /// Rows handed to one thread at a time: large enough that the split costs nothing, small
 /// enough that the threads finish together.

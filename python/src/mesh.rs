@@ -1,8 +1,8 @@
 //! `Mesh`: one triangle mesh, its 8-wide BVH built once, and the batched queries over it.
 
-use crate::arrays::{self, map_into};
+use crate::arrays::{self, map_into, Bools, F32s, I64s, Rows3};
 use crate::tier::Tier;
-use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use octoray::bvh::{Bvh8, Solid};
 use octoray::f32x8;
 use octoray::glam::Vec3;
@@ -32,32 +32,20 @@ pub struct Mesh {
 /// The first hits as arrays: `t` (inf: miss), primitive (−1: miss), `u`, `v`, the unit
 /// geometric normal `(v1 − v0) × (v2 − v0)` (0: miss) and whether the ray met the front.
 type FirstHits<'py> = (
-    Bound<'py, PyArray1<f32>>,
-    Bound<'py, PyArray1<i64>>,
-    Bound<'py, PyArray1<f32>>,
-    Bound<'py, PyArray1<f32>>,
-    Bound<'py, PyArray2<f32>>,
-    Bound<'py, PyArray1<bool>>,
+    F32s<'py>,
+    I64s<'py>,
+    F32s<'py>,
+    F32s<'py>,
+    Rows3<'py>,
+    Bools<'py>,
 );
 
 /// Every hit, flat, by ray then `t`: ray index, primitive, `t`, `u`, `v`.
-type EveryHit<'py> = (
-    Bound<'py, PyArray1<i64>>,
-    Bound<'py, PyArray1<i64>>,
-    Bound<'py, PyArray1<f32>>,
-    Bound<'py, PyArray1<f32>>,
-    Bound<'py, PyArray1<f32>>,
-);
+type EveryHit<'py> = (I64s<'py>, I64s<'py>, F32s<'py>, F32s<'py>, F32s<'py>);
 
 /// The closest points: the point, its distance (inf: none within the bound), primitive (−1:
 /// none), `u`, `v`.
-type NearestPoints<'py> = (
-    Bound<'py, PyArray2<f32>>,
-    Bound<'py, PyArray1<f32>>,
-    Bound<'py, PyArray1<i64>>,
-    Bound<'py, PyArray1<f32>>,
-    Bound<'py, PyArray1<f32>>,
-);
+type NearestPoints<'py> = (Rows3<'py>, F32s<'py>, I64s<'py>, F32s<'py>, F32s<'py>);
 
 impl Mesh {
     /// The closed mesh as a [`Solid`], or the `ValueError` saying why it is not one.

@@ -1,9 +1,9 @@
 //! `Scene`: triangle meshes and sphere sets placed in the world by instances (affine
 //! transforms, masks); batched first hits and occlusion through it.
 
-use crate::arrays::{self, map_into};
+use crate::arrays::{self, map_into, Bools, F32s, I64s, Rows3};
 use crate::tier::Tier;
-use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use octoray::f32x8;
 use octoray::glam::{Affine3A, Mat3, Vec3};
 use octoray::hit::Hit;
@@ -43,38 +43,38 @@ pub struct Scene {
 /// The first hits as arrays: `t` (inf: miss), primitive, geometry and instance (−1: miss), `u`,
 /// `v`, the unit geometric normal in world space (0: miss) and whether the ray met the front.
 type FirstHits<'py> = (
-    Bound<'py, PyArray1<f32>>,
-    Bound<'py, PyArray1<i64>>,
-    Bound<'py, PyArray1<i64>>,
-    Bound<'py, PyArray1<i64>>,
-    Bound<'py, PyArray1<f32>>,
-    Bound<'py, PyArray1<f32>>,
-    Bound<'py, PyArray2<f32>>,
-    Bound<'py, PyArray1<bool>>,
+    F32s<'py>,
+    I64s<'py>,
+    I64s<'py>,
+    I64s<'py>,
+    F32s<'py>,
+    F32s<'py>,
+    Rows3<'py>,
+    Bools<'py>,
 );
 
 /// Every hit, flat, by ray then hit order: ray index, primitive, geometry, instance, `t`, `u`,
 /// `v`.
 type EveryHit<'py> = (
-    Bound<'py, PyArray1<i64>>,
-    Bound<'py, PyArray1<i64>>,
-    Bound<'py, PyArray1<i64>>,
-    Bound<'py, PyArray1<i64>>,
-    Bound<'py, PyArray1<f32>>,
-    Bound<'py, PyArray1<f32>>,
-    Bound<'py, PyArray1<f32>>,
+    I64s<'py>,
+    I64s<'py>,
+    I64s<'py>,
+    I64s<'py>,
+    F32s<'py>,
+    F32s<'py>,
+    F32s<'py>,
 );
 
 /// The closest points: the point, its distance (inf: none within the bound), primitive,
 /// geometry and instance (−1: none), `u`, `v`.
 type NearestPoints<'py> = (
-    Bound<'py, PyArray2<f32>>,
-    Bound<'py, PyArray1<f32>>,
-    Bound<'py, PyArray1<i64>>,
-    Bound<'py, PyArray1<i64>>,
-    Bound<'py, PyArray1<i64>>,
-    Bound<'py, PyArray1<f32>>,
-    Bound<'py, PyArray1<f32>>,
+    Rows3<'py>,
+    F32s<'py>,
+    I64s<'py>,
+    I64s<'py>,
+    I64s<'py>,
+    F32s<'py>,
+    F32s<'py>,
 );
 
 /// The first hit of every ray through `scene` with triangle tier `KT`, ray `i` under `masks[i]`.
