@@ -4,6 +4,7 @@ use crate::arrays::{self, map_into, Bools, F32s, I64s, Rows3};
 use crate::tier::Tier;
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use octoray::bvh::{Bvh8, Solid};
+use octoray::parallel::Rayon;
 use octoray::f32x8;
 use octoray::glam::Vec3;
 use octoray::hit::Hit;
@@ -109,9 +110,11 @@ impl Mesh {
         let tier = Tier::parse(tier)?;
         let tris = arrays::triangles(&vertices, &faces)?;
         py.detach(move || -> Result<Self, String> {
-            let bvh = Bvh8::try_build(&tris).map_err(|e| e.to_string())?;
+            // On rayon's threads; the same tree as a single-threaded build's.
+            let bvh = Bvh8::try_build_on(&tris, &Rayon).map_err(|e| e.to_string())?;
             let packed = if tier == Tier::Standard {
-                Some(Bvh8::try_build(&arrays::packed(&tris)).map_err(|e| e.to_string())?)
+                let p = arrays::packed(&tris);
+                Some(Bvh8::try_build_on(&p, &Rayon).map_err(|e| e.to_string())?)
             } else {
                 None
             };

@@ -6,6 +6,7 @@ use crate::tier::Tier;
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use octoray::f32x8;
 use octoray::glam::{Affine3A, Mat3, Vec3};
+use octoray::parallel::Rayon;
 use octoray::hit::Hit;
 use octoray::kernels::{Exact, Kernel, MollerTrumbore, NearestPoint, StableSphere, Watertight};
 use octoray::prim::{PackedSphere, PackedTriangle, Primitive, Ray, VertexTriangle};
@@ -352,9 +353,10 @@ impl Scene {
     /// Builds the top level over the instances: queries see the scene as it is now.
     fn commit(&mut self, py: Python<'_>) -> PyResult<()> {
         let layout = &mut self.layout;
+        // On rayon's threads; the same trees as a single-threaded commit's.
         py.detach(|| match layout {
-            Layout::Vertex(s) => s.commit(),
-            Layout::Packed(s) => s.commit(),
+            Layout::Vertex(s) => s.commit_on(&Rayon),
+            Layout::Packed(s) => s.commit_on(&Rayon),
         })
         .map_err(|e| PyValueError::new_err(e.to_string()))
     }
