@@ -20,15 +20,31 @@ use pyo3::prelude::*;
 #[pyclass(frozen, module = "octoray._octoray")]
 pub struct Mesh {
     tier: Tier,
-    tris: Vec<VertexTriangle>,
+    /// The triangles, their tree and the closed-mesh check over them.
+    mesh: Checked,
     /// Each triangle's unit geometric normal.
     normals: Vec<[f32; 3]>,
-    bvh: Bvh8<VertexTriangle>,
     /// The standard tier's layout of the same triangles.
     packed: Option<Bvh8<PackedTriangle>>,
-    /// Why the mesh is not closed (`None`: it is).
-    open: Option<String>,
 }
+
+/// The triangles and their tree.
+struct Owned {
+    tris: Vec<VertexTriangle>,
+    bvh: Bvh8<VertexTriangle>,
+}
+
+/// The closed mesh over [`Owned`], or why it is not closed.
+type Closed<'a> = Result<Solid<'a>, String>;
+
+self_cell::self_cell!(
+    /// [`Owned`] and its [`Closed`] view, checked once.
+    struct Checked {
+        owner: Owned,
+        #[covariant]
+        dependent: Closed,
+    }
+);
 
 /// The first hits as arrays: `t` (inf: miss), primitive (−1: miss), `u`, `v`, the unit
 /// geometric normal `(v1 − v0) × (v2 − v0)` (0: miss) and whether the ray met the front.
@@ -51,13 +67,20 @@ type NearestPoints<'py> = (Rows3<'py>, F32s<'py>, I64s<'py>, F32s<'py>, F32s<'py
 impl Mesh {
     /// The closed mesh as a [`Solid`], or the `ValueError` saying why it is not one.
     fn solid(&self) -> PyResult<Solid<'_>> {
-        if let Some(why) = &self.open {
-            return Err(PyValueError::new_err(format!(
-                "the mesh is not closed: {why}"
-            )));
-        }
-        Solid::new(self.bvh.as_ref(), &self.tris)
-            .map_err(|e| PyValueError::new_err(format!("the mesh is not closed: {e}")))
+        self.mesh
+            .borrow_dependent()
+            .clone()
+            .map_err(|why| PyValueError::new_err(format!("the mesh is not closed: {why}")))
+    }
+
+    /// The triangles.
+    fn tris(&self) -> &[VertexTriangle] {
+        &self.mesh.borrow_owner().tris
+    }
+
+    /// Their tree.
+    fn bvh(&self) -> octoray::bvh::Bvh8Ref<'_, VertexTriangle> {
+        self.mesh.borrow_owner().bvh.as_ref()
     }
 
     /// The first hit of every ray with this mesh's tier.
@@ -68,10 +91,10 @@ impl Mesh {
                 tree::closest::<f32x8, MollerTrumbore>(p.as_ref(), r, o)
             }),
             (Tier::Exact, _) => map_into(pool, rays, &mut hits, |_, r, o| {
-                tree::closest::<f32x8, Exact>(self.bvh.as_ref(), r, o)
+                tree::closest::<f32x8, Exact>(self.bvh(), r, o)
             }),
             _ => map_into(pool, rays, &mut hits, |_, r, o| {
-                tree::closest::<f32x8, Watertight>(self.bvh.as_ref(), r, o)
+                tree::closest::<f32x8, Watertight>(self.bvh(), r, o)
             }),
         }
         hits
@@ -85,10 +108,10 @@ impl Mesh {
                 tree::all_hits_ray::<f32x8, MollerTrumbore>(p.as_ref(), ray, after, page)
             }),
             (Tier::Exact, _) => arrays::paged(i, out, |after, page| {
-                tree::all_hits_ray::<f32x8, Exact>(self.bvh.as_ref(), ray, after, page)
+                tree::all_hits_ray::<f32x8, Exact>(self.bvh(), ray, after, page)
             }),
             _ => arrays::paged(i, out, |after, page| {
-                tree::all_hits_ray::<f32x8, Watertight>(self.bvh.as_ref(), ray, after, page)
+                tree::all_hits_ray::<f32x8, Watertight>(self.bvh(), ray, after, page)
             }),
         })
     }
@@ -118,14 +141,15 @@ impl Mesh {
             } else {
                 None
             };
-            let open = Solid::new(bvh.as_ref(), &tris).err().map(|e| e.to_string());
+            let normals = arrays::unit_normals(&tris);
+            let mesh = Checked::new(Owned { tris, bvh }, |o| {
+                Solid::new(o.bvh.as_ref(), &o.tris).map_err(|e| e.to_string())
+            });
             Ok(Self {
                 tier,
-                normals: arrays::unit_normals(&tris),
-                tris,
-                bvh,
+                mesh,
+                normals,
                 packed,
-                open,
             })
         })
         .map_err(PyValueError::new_err)
@@ -134,7 +158,7 @@ impl Mesh {
     /// The number of triangles.
     #[getter]
     fn triangle_count(&self) -> usize {
-        self.tris.len()
+        self.tris().len()
     }
 
     /// The tier's name.
@@ -147,7 +171,7 @@ impl Mesh {
     /// `contains`, `winding_number` and `signed_distance` need.
     #[getter]
     fn is_closed(&self) -> bool {
-        self.open.is_none()
+        self.mesh.borrow_dependent().is_ok()
     }
 
     /// The first hit of every ray (rows `ox, oy, oz, dx, dy, dz`, hits with `t` in
@@ -203,10 +227,10 @@ impl Mesh {
                 tree::occluded::<f32x8, MollerTrumbore>(p.as_ref(), r, o)
             }),
             (Tier::Exact, _) => map_into(pool.as_ref(), &rays, &mut out, |_, r, o| {
-                tree::occluded::<f32x8, Exact>(self.bvh.as_ref(), r, o)
+                tree::occluded::<f32x8, Exact>(self.bvh(), r, o)
             }),
             _ => map_into(pool.as_ref(), &rays, &mut out, |_, r, o| {
-                tree::occluded::<f32x8, Watertight>(self.bvh.as_ref(), r, o)
+                tree::occluded::<f32x8, Watertight>(self.bvh(), r, o)
             }),
         });
         Ok(PyArray1::from_vec(py, out))
@@ -249,7 +273,7 @@ impl Mesh {
         let rays = arrays::rays(&rays, &t_min, &t_max)?;
         let pool = arrays::pool(threads)?;
         let mut out = vec![0u32; rays.len()];
-        let bvh = self.bvh.as_ref();
+        let bvh = self.bvh();
         py.detach(|| {
             map_into(pool.as_ref(), &rays, &mut out, |_, r, o| {
                 for (ray, o) in r.iter().zip(o) {
@@ -307,7 +331,7 @@ impl Mesh {
         max_distance: f32,
         threads: Option<usize>,
     ) -> PyResult<NearestPoints<'py>> {
-        let bvh = self.bvh.as_ref();
+        let bvh = self.bvh();
         let found = self.per_point(py, &points, threads, None, |p| {
             tree::closest_point(bvh, p, max_distance)
         })?;
