@@ -78,6 +78,27 @@ type NearestPoints<'py> = (
     F32s<'py>,
 );
 
+/// `query(tracer, rays, masks, out)` over chunks of `rays` (ray `i` under `masks[i]`) through
+/// `scene` with triangle tier `KT`, spread over `pool`'s threads; `out` starts as `init`.
+fn traced<KT: Kernel<f32x8>, O: Clone + Send>(
+    scene: &Built<KT::Prim, PackedSphere>,
+    rays: &[Ray],
+    masks: &[u32],
+    pool: Option<&rayon::ThreadPool>,
+    init: O,
+    query: impl Fn(&Tracer<'_, f32x8, KT, StableSphere>, &[Ray], &[u32], &mut [O]) + Sync,
+) -> Vec<O>
+where
+    KT::Prim: Primitive,
+{
+    let tracer = Tracer::<f32x8, KT, StableSphere>::new(scene.as_ref());
+    let mut out = vec![init; rays.len()];
+    map_into(pool, rays, &mut out, |first, r, o| {
+        query(&tracer, r, &masks[first..first + r.len()], o)
+    });
+    out
+}
+
 /// The first hit of every ray through `scene` with triangle tier `KT`, ray `i` under `masks[i]`.
 fn first_hits<KT: Kernel<f32x8>>(
     scene: &Built<KT::Prim, PackedSphere>,
@@ -88,12 +109,9 @@ fn first_hits<KT: Kernel<f32x8>>(
 where
     KT::Prim: Primitive,
 {
-    let tracer = Tracer::<f32x8, KT, StableSphere>::new(scene.as_ref());
-    let mut out = vec![None; rays.len()];
-    map_into(pool, rays, &mut out, |first, r, o| {
-        tracer.closest(r, &masks[first..first + r.len()], o)
-    });
-    out
+    traced::<KT, _>(scene, rays, masks, pool, None, |t, r, m, o| {
+        t.closest(r, m, o)
+    })
 }
 
 /// Whether every ray through `scene` with triangle tier `KT` hits anything, ray `i` under
@@ -107,12 +125,9 @@ fn occlusion<KT: Kernel<f32x8>>(
 where
     KT::Prim: Primitive,
 {
-    let tracer = Tracer::<f32x8, KT, StableSphere>::new(scene.as_ref());
-    let mut out = vec![false; rays.len()];
-    map_into(pool, rays, &mut out, |first, r, o| {
-        tracer.occluded(r, &masks[first..first + r.len()], o)
-    });
-    out
+    traced::<KT, _>(scene, rays, masks, pool, false, |t, r, m, o| {
+        t.occluded(r, m, o)
+    })
 }
 
 /// Every hit of every ray through `scene` with triangle tier `KT`, ray `i` under `masks[i]`:
