@@ -250,6 +250,16 @@ class Mesh:
         outward-oriented mesh, 0 outside). Raises ``ValueError`` if the mesh is not closed."""
         return self._mesh.winding_number(_rows(points, 3, "points"), _threads(threads))
 
+    def generalized_winding_number(self, points, tolerance=1e-3, threads=None) -> np.ndarray:
+        """The generalized winding number at each point (float64 array), for any mesh: open,
+        non-manifold or self-intersecting (1 inside and 0 outside a closed, outward-oriented
+        mesh, 0.5 on its surface; a threshold at 0.5 classifies inside and outside). Within
+        ``tolerance`` of the exact sum of the faces' solid angles over 4π (a proven bound; 0
+        sums every face). NaN for a non-finite point. Raises ``ValueError`` for a negative or
+        NaN tolerance."""
+        p = _rows(points, 3, "points")
+        return self._mesh.generalized_winding_number(p, float(tolerance), _threads(threads))
+
     def signed_distance(self, points, threads=None) -> np.ndarray:
         """The distance from each point to the closed mesh, negative inside (float32 array; the
         sign exact; NaN for a non-finite point). Raises ``ValueError`` if the mesh is not

@@ -3,7 +3,7 @@
 use crate::arrays::{self, map_into, Bools, F32s, I64s, Rows3};
 use crate::tier::Tier;
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
-use octoray::bvh::{Bvh8, Solid};
+use octoray::bvh::{Bvh8, Solid, WindingTree};
 use octoray::f32x8;
 use octoray::glam::Vec3;
 use octoray::hit::Hit;
@@ -16,7 +16,7 @@ use pyo3::prelude::*;
 
 /// A triangle mesh and its BVH: first hits, occlusion and every hit along rays with the chosen
 /// tier; exact crossing counts, containment, winding numbers and signed distance (closed
-/// meshes); closest points.
+/// meshes); generalized winding numbers (any mesh); closest points.
 #[pyclass(frozen, module = "octoray._octoray")]
 pub struct Mesh {
     tier: Tier,
@@ -307,6 +307,30 @@ impl Mesh {
         threads: Option<usize>,
     ) -> PyResult<Bound<'py, PyArray1<i32>>> {
         self.on_solid(py, &points, threads, 0, tree::winding_number::<f32x8>)
+    }
+
+    /// The generalized winding number of the mesh at each point (any mesh: open, non-manifold or
+    /// self-intersecting; 1 inside and 0 outside a closed, outward-oriented one, ½ on its
+    /// surface), within `tolerance` of the exact sum of solid angles (plus f64 rounding). NaN
+    /// for a non-finite point. Raises `ValueError` for a negative or NaN tolerance.
+    #[pyo3(signature = (points, tolerance = 1e-3, threads = None))]
+    fn generalized_winding_number<'py>(
+        &self,
+        py: Python<'py>,
+        points: PyReadonlyArray2<'py, f32>,
+        tolerance: f64,
+        threads: Option<usize>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        if tolerance.is_nan() || tolerance < 0.0 {
+            return Err(PyValueError::new_err(format!(
+                "tolerance must be zero or positive, not {tolerance}"
+            )));
+        }
+        let winding = WindingTree::new(self.bvh());
+        let out = self.per_point(py, &points, threads, f64::NAN, |p| {
+            tree::generalized_winding_number(&winding, p, tolerance)
+        })?;
+        Ok(PyArray1::from_vec(py, out))
     }
 
     /// The signed distance from each point to the closed mesh: negative inside (the sign

@@ -181,6 +181,12 @@ def test_hostile_input_raises_or_misses():
     for query in (opened.contains, opened.winding_number, opened.signed_distance):
         with pytest.raises(ValueError, match="not closed"):
             query([[0.1, 0.1, 0.1]])
+    # The generalized winding number takes open meshes; a bad tolerance raises.
+    with pytest.raises(ValueError, match="tolerance"):
+        opened.generalized_winding_number([[0.1, 0.1, 0.1]], tolerance=-1)
+    with pytest.raises(ValueError, match="tolerance"):
+        opened.generalized_winding_number([[0.1, 0.1, 0.1]], tolerance=nan)
+    assert np.isnan(opened.generalized_winding_number([[nan, 0, 0]])[0])
     # Degenerate and subnormal faces: misses, never NaN.
     flat = octoray.Mesh(
         np.array([[0, 0, 0], [1, 1, 1], [2, 2, 2], [1e-45, 0, 0], [0, 1e-45, 0]]),
@@ -202,3 +208,28 @@ def test_threads_give_the_same_bits():
     assert m.signed_distance(pts, threads=1).tobytes() == m.signed_distance(pts).tobytes()
     a1, a4 = m.all_hits(rays, threads=1), m.all_hits(rays, threads=3)
     assert a1.ray.tobytes() == a4.ray.tobytes() and a1.t.tobytes() == a4.t.tobytes()
+
+
+def test_generalized_winding_number_on_closed_and_open_meshes():
+    v, f = grid_cube(4)
+    m = octoray.Mesh(v, f)
+    rng = np.random.default_rng(5)
+    # An eighth of a cell off the grid: never on the surface.
+    p = rng.integers(-2, 7, (500, 3)) + 0.125
+    exact = m.winding_number(p)
+    for tol in (0.0, 1e-3, 0.1):
+        w = m.generalized_winding_number(p, tolerance=tol)
+        assert w.dtype == np.float64 and np.abs(w - exact).max() <= tol + 1e-9
+    # On the surface: a half. Threads: the same bits.
+    assert abs(m.generalized_winding_number([[2, 2, 0]])[0] - 0.5) < 1e-3 + 1e-9
+    a = m.generalized_winding_number(p, threads=1)
+    assert a.tobytes() == m.generalized_winding_number(p, threads=3).tobytes()
+    # The tetrahedron without its face at z = 0: the face's share is missing, by the solid angle
+    # it subtends (from a point above its centroid, analytically by Van Oosterom-Strackee).
+    opened = octoray.Mesh(TET_V, TET_F[1:])
+    q = np.array([1 / 3, 1 / 3, 0.1])
+    a, b, c = TET_V[0] - q, TET_V[2] - q, TET_V[1] - q
+    la, lb, lc = (np.linalg.norm(x) for x in (a, b, c))
+    cap = 2 * np.arctan2(a @ np.cross(b, c), la * lb * lc + (a @ b) * lc + (a @ c) * lb + (b @ c) * la)
+    w = opened.generalized_winding_number([q], tolerance=0)[0]
+    assert abs(w - (1 - cap / (4 * np.pi))) < 1e-6

@@ -170,6 +170,7 @@ const TREE_LAYERS: &[(&str, &[&str])] = &[
     ("point", &["all_hits"]),
     ("region", &["all_hits"]),
     ("solid", &["all_hits", "point"]),
+    ("winding", &[]),
     ("box_test", &["slab"]),
 ];
 

@@ -696,6 +696,32 @@ fn beyond_first_hit(
             .filter(|&i| lo.cmple(hi).all() && verts[i as usize].meets(l, h))
             .collect();
         assert_eq!(ids[..f.stored].to_vec(), want, "overlapping {lo:?}..{hi:?}");
+        // The generalized winding number on hostile geometry: within its tolerance of the exact
+        // sum (each triangle once; rounding of a sum in another order), NaN off the finite points.
+        let winding = octoray::bvh::WindingTree::new(tree.as_ref());
+        let exact: f64 = verts
+            .iter()
+            .map(|t| {
+                octoray::kernels::triangle::solid_angle::solid_angle(
+                    [t.v0, t.v1, t.v2].map(|v| v.map(f64::from)),
+                    q,
+                )
+            })
+            .sum::<f64>()
+            / (4.0 * std::f64::consts::PI);
+        for tol in [0.0, 0.01] {
+            let w = octoray::tree::generalized_winding_number(&winding, r.origin, tol);
+            if r.origin.is_finite() {
+                let slack = tol + 1e-13 * (verts.len() as f64 + 1.0);
+                assert!(
+                    (w - exact).abs() <= slack,
+                    "winding {w} / {exact} at {:?}",
+                    r.origin
+                );
+            } else {
+                assert!(w.is_nan());
+            }
+        }
     }
 }
 
@@ -835,6 +861,8 @@ fn run_tree(rng: &mut Rng) {
         let (lo, hi) = (rays[7].origin - Vec3::ONE, rays[7].origin + Vec3::ONE);
         let f = octoray::tree::overlapping(bvh, lo, hi, None, &mut ids);
         assert!(ids[..f.stored].iter().all(|&i| (i as usize) < t.prims));
+        let winding = octoray::bvh::WindingTree::new(bvh);
+        let _ = octoray::tree::generalized_winding_number(&winding, rays[5].origin, 0.01);
         if let Ok(solid) = octoray::bvh::Solid::new(bvh, &tris[..t.prims.min(tris.len())]) {
             let _ = octoray::tree::contains::<f32x8>(solid, rays[5].origin);
         }

@@ -42,3 +42,5 @@ mod solid;
 mod untrusted_scenes;
 #[cfg(not(octoray_isa_slice))]
 mod watertight;
+#[cfg(not(octoray_isa_slice))]
+mod winding;

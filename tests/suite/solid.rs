@@ -19,7 +19,7 @@ use proptest::prelude::*;
 
 /// A set of unit voxels on an `N³` grid, placed at `origin + scale·cell`.
 #[derive(Clone, Debug)]
-struct Voxels {
+pub(crate) struct Voxels {
     n: i32,
     filled: Vec<bool>,
     origin: Vec3,
@@ -34,19 +34,19 @@ impl Voxels {
 
     /// The grid point `g` (integer or quarter-integer coordinates) in space, exactly (the
     /// scale is a power of two and the origin a coarse dyadic).
-    fn point(&self, g: [f32; 3]) -> Vec3 {
+    pub(crate) fn point(&self, g: [f32; 3]) -> Vec3 {
         self.origin + self.scale * Vec3::from(g)
     }
 
     /// Is the grid point `g`, moved by `(ε, ε², ε³)`, inside? Its cell is `floor(g)` whether or
     /// not `g` lies on a face, an edge or a vertex.
-    fn oracle(&self, g: [f32; 3]) -> bool {
+    pub(crate) fn oracle(&self, g: [f32; 3]) -> bool {
         self.at(g.map(|x| x.floor() as i32))
     }
 
     /// The boundary: each face between a filled and an empty cell as two triangles (split along
     /// the diagonal `split` picks) or four around its centre, normals out.
-    fn surface(&self, split: &[u8]) -> Vec<VertexTriangle> {
+    pub(crate) fn surface(&self, split: &[u8]) -> Vec<VertexTriangle> {
         let mut tris = Vec::new();
         let mut k = 0;
         for z in 0..self.n {
@@ -116,7 +116,7 @@ impl Voxels {
     }
 }
 
-fn voxels() -> impl Strategy<Value = (Voxels, Vec<u8>)> {
+pub(crate) fn voxels() -> impl Strategy<Value = (Voxels, Vec<u8>)> {
     (2i32..=5).prop_flat_map(|n| {
         let cells = (n * n * n) as usize;
         (
@@ -143,13 +143,13 @@ fn voxels() -> impl Strategy<Value = (Voxels, Vec<u8>)> {
 
 /// Grid points in quarter cells around the grid: on faces, edges and vertices a quarter of the
 /// time each coordinate.
-fn grid_points(n: i32) -> impl Strategy<Value = [f32; 3]> {
+pub(crate) fn grid_points(n: i32) -> impl Strategy<Value = [f32; 3]> {
     prop::array::uniform3(-6..=4 * n + 2).prop_map(|q| q.map(|x| x as f32 / 4.0))
 }
 
 /// Both tree kinds: binned (each triangle once) and spatial splits (triangles in several
 /// leaves).
-fn trees(tris: &[VertexTriangle]) -> [Bvh8<VertexTriangle>; 2] {
+pub(crate) fn trees(tris: &[VertexTriangle]) -> [Bvh8<VertexTriangle>; 2] {
     [BuildOptions::BINNED, BuildOptions::SPATIAL]
         .map(|o| Bvh8::try_build_options(tris, o, &Sequential).expect("build"))
 }

@@ -47,6 +47,8 @@ mod build;
 mod collapse;
 #[cfg(all(feature = "alloc", feature = "triangle"))]
 mod solid;
+#[cfg(all(feature = "alloc", feature = "triangle"))]
+mod winding;
 
 use crate::prim::{Primitive, BLOCK};
 
@@ -488,3 +490,5 @@ pub(crate) use build::refit_parts;
 pub use build::{BuildOptions, BuildStats, Bvh8, Join, Sequential};
 #[cfg(all(feature = "alloc", feature = "triangle"))]
 pub use solid::{Solid, SolidError};
+#[cfg(all(feature = "alloc", feature = "triangle"))]
+pub use winding::WindingTree;

@@ -64,6 +64,8 @@ pub(crate) mod single;
 pub(crate) mod slab;
 #[cfg(feature = "triangle")]
 mod solid;
+#[cfg(all(feature = "triangle", feature = "alloc"))]
+mod winding;
 
 #[cfg(test)]
 mod box_test;
@@ -80,3 +82,5 @@ pub use region::overlapping;
 pub use solid::crossings_ray;
 #[cfg(all(feature = "triangle", feature = "alloc"))]
 pub use solid::{contains, signed_distance, winding_number};
+#[cfg(all(feature = "triangle", feature = "alloc"))]
+pub use winding::generalized_winding_number;
