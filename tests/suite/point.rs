@@ -164,6 +164,35 @@ proptest! {
     }
 
     #[test]
+    fn closest_point_equals_brute_force_on_and_near_the_planes_far_out(
+        tris in prop::collection::vec(prop::array::uniform3(prop::array::uniform3(-2.0f32..2.0)), 1..60),
+        offset in prop::array::uniform3(prop_oneof![Just(0.0f32), -3e4f32..3e4]),
+        picks in prop::collection::vec((0usize..60, 0.0f32..1.0, 0.0f32..1.0, -3i32..=3), 24),
+        squash in prop_oneof![Just(1.0f32), Just(1e-3f32), Just(1e-6f32)],
+    ) {
+        // Triangles (flattened along z by `squash`: thin and nearly coplanar ones) moved far
+        // out, and points on their planes or a few ulps to hundreds of ulps off them: where
+        // the plane bound's slack decides what is culled.
+        let o = Vec3::from_array(offset);
+        let tris: Vec<[Vec3; 3]> = tris
+            .iter()
+            .map(|t| t.map(|v| o + Vec3::new(v[0], v[1], v[2] * squash)))
+            .collect();
+        let vt: Vec<VertexTriangle> = tris.iter().map(|t| VertexTriangle::new(t[0], t[1], t[2])).collect();
+        let points: Vec<Vec3> = picks
+            .iter()
+            .map(|&(i, a, b, k)| {
+                let t = &tris[i % tris.len()];
+                let (a, b) = if a + b > 1.0 { (1.0 - a, 1.0 - b) } else { (a, b) };
+                let on = t[0] + (t[1] - t[0]) * a + (t[2] - t[0]) * b;
+                let n = (t[1] - t[0]).cross(t[2] - t[0]).normalize_or_zero();
+                on + n * (k as f32) * on.abs().max_element().max(1.0) * f32::EPSILON * 16f32.powi(k.abs())
+            })
+            .collect();
+        check(&vt, &points, 0.5)?;
+    }
+
+    #[test]
     fn the_nearest_point_is_on_the_triangle_and_nearest(
         t in prop::array::uniform3(corner()),
         p in point(),

@@ -229,10 +229,18 @@ impl NearestPoint for VertexTriangle {
         let c = corners(words, false).map(|x| map.apply(x));
         crate::kernels::triangle::closest_point::nearest_on_triangle(c, p)
     }
+    /// The larger of the box's bound and the distance to the triangle's plane: with the
+    /// stored unit normal `n` (rounded once from the exact one, each component within 2⁻²⁴)
+    /// and `w = p − v₀` in f32, `|n·w|` is within `6·2⁻²⁴·|w|₁` of the exact plane distance,
+    /// so `|n·w| − 2⁻²⁰·|w|₁` is below it.
     #[inline(always)]
     fn dist2_bound<L: Lanes, W: Words>(words: &W, p: V3<L>) -> L {
-        let [lo, hi] = min_max3(words.word3(0), words.word3(3), words.word3(6));
-        box_dist2(lo, hi, p)
+        let v0 = words.word3(0);
+        let [lo, hi] = min_max3(v0, words.word3(3), words.word3(6));
+        let w = p - v0;
+        let slack = (w.x.abs() + w.y.abs() + w.z.abs()) * L::splat(1.0 / 1_048_576.0);
+        let plane = (words.word3::<L>(9).dot(w).abs() - slack).max_or_rhs(L::zero());
+        box_dist2(lo, hi, p).max_or_rhs(plane * plane)
     }
 }
 
