@@ -829,6 +829,48 @@ pub unsafe extern "C" fn octoray_closest_point1(
     unsafe { trace::closest_point("octoray_closest_point1", scene, point, max_dist, mask, out) }
 }
 
+/// How many triangles one ray crosses in `(t_min, t_max)` among the instances and geometries
+/// whose masks share a bit with `mask`, into `*out`: exactly, each triangle of each instance
+/// once, a ray through a shared edge or vertex of a closed mesh crossing one triangle there
+/// (the crossing rule, in each instance's object space); spheres do not count. For a
+/// scene of closed meshes, the parity says whether the ray's ends are on the same side.
+/// `InvalidArgument` for a standard-tier scene (its layout has no crossing rule).
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `ray` is valid for reading; `out` is valid
+/// for writing one `uint32_t`.
+#[no_mangle]
+pub unsafe extern "C" fn octoray_crossings1(
+    scene: *const OctorayScene,
+    ray: *const OctorayRay,
+    mask: u32,
+    out: *mut u32,
+) -> OctorayStatus {
+    // SAFETY: the same contract.
+    unsafe { trace::crossings("octoray_crossings1", scene, ray, mask, out) }
+}
+
+/// Whether `point` (three floats, world space) is inside the scene's closed meshes among the
+/// instances and geometries whose masks share a bit with `mask`: `*out` is 1 inside an odd
+/// number of them, else 0; exact for the point as each instance's map carries it (a point on a
+/// surface as moved an infinitesimal step along +x, then +y, then +z; a non-finite point is
+/// outside). Meaningful for scenes whose triangle geometries are closed. `InvalidArgument` for
+/// a standard-tier scene.
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `point` is valid for reading three floats;
+/// `out` is valid for writing one byte.
+#[no_mangle]
+pub unsafe extern "C" fn octoray_contains1(
+    scene: *const OctorayScene,
+    point: *const f32,
+    mask: u32,
+    out: *mut u8,
+) -> OctorayStatus {
+    // SAFETY: the same contract.
+    unsafe { trace::contains("octoray_contains1", scene, point, mask, out) }
+}
+
 /// The closest hits of an 8-ray SoA packet (every lane traced; an empty range is a miss).
 ///
 /// # Safety

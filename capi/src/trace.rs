@@ -348,3 +348,73 @@ pub(crate) unsafe fn closest_point(
         Ok(())
     })
 }
+
+/// `octoray_crossings1`: how many triangles `*ray` crosses under the crossing rule into
+/// `*out`; an `InvalidArgument` error for a standard-tier scene, whose layout
+/// has no crossing rule.
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `ray` is valid for reading; `out` for writing
+/// one `u32`.
+pub(crate) unsafe fn crossings(
+    call: &str,
+    scene: *const OctorayScene,
+    ray: *const OctorayRay,
+    mask: u32,
+    out: *mut u32,
+) -> OctorayStatus {
+    run(|| {
+        // SAFETY: the caller's contract.
+        let s = unsafe { scene_ref(scene, call) }?;
+        // SAFETY: the caller's contract.
+        let r = Ray::from(&unsafe { slice(ray, 1, call, "ray") }?[0]);
+        let out = null_check(out, call, "out")?;
+        let n = vertex_view(s, call)?.crossings_ray::<f32x8, StableSphere>(&r, mask);
+        // SAFETY: non-null and, by the contract, valid for writing.
+        unsafe { put(out, n) };
+        Ok(())
+    })
+}
+
+/// `octoray_contains1`: whether `point` is inside the scene's closed meshes (the parity of the
+/// crossings of a ray from it) into `*out` as 1 or 0; an `InvalidArgument` error for a
+/// standard-tier scene.
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `point` is valid for reading three floats;
+/// `out` for writing one byte.
+pub(crate) unsafe fn contains(
+    call: &str,
+    scene: *const OctorayScene,
+    point: *const f32,
+    mask: u32,
+    out: *mut u8,
+) -> OctorayStatus {
+    run(|| {
+        // SAFETY: the caller's contract.
+        let s = unsafe { scene_ref(scene, call) }?;
+        // SAFETY: the caller's contract.
+        let p = unsafe { slice(point, 3, call, "point") }?;
+        let out = null_check(out, call, "out")?;
+        let p = octoray::glam::Vec3::new(p[0], p[1], p[2]);
+        let inside = vertex_view(s, call)?.contains::<f32x8, StableSphere>(p, mask);
+        // SAFETY: non-null and, by the contract, valid for writing.
+        unsafe { put(out, u8::from(inside)) };
+        Ok(())
+    })
+}
+
+/// The scene as vertex triangles (the watertight and exact tiers' layout), or the error a
+/// crossing query on a standard-tier scene gets.
+fn vertex_view<'s>(
+    s: &'s OctorayScene,
+    call: &str,
+) -> Result<octoray::scene::SceneRef<'s, VertexTriangle, PackedSphere>, OctorayStatus> {
+    match s.view(call)? {
+        View::Vertex(sc) => Ok(sc),
+        View::Packed(_) => Err(crate::fail(
+            OctorayStatus::InvalidArgument,
+            format!("{call}: a standard-tier scene has no crossing rule (use the watertight or exact tier)"),
+        )),
+    }
+}

@@ -505,3 +505,62 @@ fn unplaced_groups_miss_and_scenes_past_the_work_budget_are_refused() {
     assert_eq!(load_and_trace(&deep), OctorayStatus::InvalidScene);
     assert!(last_error().contains("more than"), "{}", last_error());
 }
+
+#[test]
+fn crossings_and_containment_through_instances() {
+    // The tetrahedron placed at +x 5 (mask 1); the unit ball at z = 5 (mask 2) does not count.
+    let inside = [[5.1f32, 0.1, 0.1], [5.2, 0.3, 0.2]];
+    let outside = [
+        [0.1f32, 0.1, 0.1],
+        [5.9, 0.9, 0.9],
+        [0.1, 0.2, 5.0],
+        [f32::NAN, 0.0, 0.0],
+    ];
+    for tier in [1, 2] {
+        let scene = small(tier);
+        let mut got = 9u8;
+        for (points, want) in [(&inside[..], 1), (&outside[..], 0)] {
+            for p in points {
+                // SAFETY: `p` holds three floats; `got` is valid.
+                let s = unsafe { octoray_contains1(scene, p.as_ptr(), !0, &mut got) };
+                assert_eq!((s, got), (OctorayStatus::Ok, want), "{p:?}, tier {tier}");
+            }
+        }
+        // A mask that leaves the tetrahedron out: nothing contains its inside.
+        // SAFETY: as above.
+        let s = unsafe { octoray_contains1(scene, inside[0].as_ptr(), 2, &mut got) };
+        assert_eq!((s, got), (OctorayStatus::Ok, 0));
+        // Through the tetrahedron (in through its base, out through a slanted face): 2; from
+        // inside it: 1; through the ball: 0.
+        let ray = |org: [f32; 3], t_max: f32| OctorayRay {
+            org,
+            dir: [0.0, 0.0, 1.0],
+            t_min: 0.0,
+            t_max,
+        };
+        for (r, want) in [
+            (ray([5.2, 0.2, -1.0], 2.0), 2),
+            (ray([5.2, 0.2, 0.1], 2.0), 1),
+            (ray([0.0, 0.1, 2.0], f32::INFINITY), 0),
+        ] {
+            let mut n = 9u32;
+            // SAFETY: `r` and `n` are valid.
+            let s = unsafe { octoray_crossings1(scene, &r, !0, &mut n) };
+            assert_eq!((s, n), (OctorayStatus::Ok, want), "{r:?}");
+        }
+        // SAFETY: a null output is reported, not written.
+        let s = unsafe { octoray_crossings1(scene, &ray([0.0; 3], 1.0), !0, null_mut()) };
+        assert_eq!(s, OctorayStatus::NullPointer);
+        // SAFETY: `scene` is live.
+        unsafe { octoray_scene_free(scene) };
+    }
+    // The standard tier's layout has no crossing rule: an error with a message.
+    let scene = small(0);
+    let mut got = 0u8;
+    // SAFETY: as above.
+    let s = unsafe { octoray_contains1(scene, inside[0].as_ptr(), !0, &mut got) };
+    assert_eq!(s, OctorayStatus::InvalidArgument);
+    assert!(last_error().contains("crossing rule"), "{}", last_error());
+    // SAFETY: `scene` is live.
+    unsafe { octoray_scene_free(scene) };
+}

@@ -379,6 +379,25 @@ class Scene:
         q = self._query(rays, t_min, t_max, mask)
         return SceneAllHits(*self._scene.all_hits(*q, _threads(threads)))
 
+    def crossings(self, rays, t_min=0.0, t_max=np.inf, mask=0xFFFFFFFF, threads=None) -> np.ndarray:
+        """How many faces of the instanced meshes each ray crosses in ``(t_min, t_max)``,
+        exactly: a ray through a shared edge or vertex crosses one face there, once, in each
+        instance's object space; spheres do not count (uint32 array). Raises ``ValueError`` for
+        a ``"standard"`` scene."""
+        q = self._query(rays, t_min, t_max, mask)
+        return self._scene.crossings(*q, _threads(threads))
+
+    def contains(self, points, mask=0xFFFFFFFF, threads=None) -> np.ndarray:
+        """Whether each point is inside the instanced closed meshes whose mask shares a bit with
+        ``mask`` (inside an odd number of them; bool array), exactly for the point as each
+        instance's map carries it. Meaningful when every mesh is closed; spheres do not count.
+        Raises ``ValueError`` for a ``"standard"`` scene."""
+        if self._changed:
+            self.commit()
+        p = _rows(points, 3, "points")
+        m = int(_mask(mask, 1)[0])
+        return self._scene.contains(p, m, _threads(threads))
+
     def closest_points(self, points, max_distance=np.inf, mask=0xFFFFFFFF, threads=None) -> SceneClosestPoints:
         """The nearest point of the scene (its instances whose mask shares a bit with
         ``mask``) to each point, within ``max_distance``."""

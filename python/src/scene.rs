@@ -170,6 +170,17 @@ where
     out
 }
 
+/// The scene in the vertex layout (watertight and exact tiers), or the `ValueError` a crossing
+/// query on a standard-tier scene gets.
+fn vertex(layout: &Layout) -> PyResult<&Built<VertexTriangle, PackedSphere>> {
+    match layout {
+        Layout::Vertex(s) => Ok(s),
+        Layout::Packed(_) => Err(PyValueError::new_err(
+            "a standard-tier scene has no crossing rule: use tier=\"watertight\" or \"exact\"",
+        )),
+    }
+}
+
 /// The world → object map of an instance placed by `rows`, the object → world matrix's top
 /// three rows (12 numbers by rows): a `ValueError` when it is not finite or not invertible.
 fn placing(rows: &[f64]) -> PyResult<Transform> {
@@ -474,6 +485,59 @@ impl Scene {
             PyArray1::from_vec(py, floats(|h| h.u)),
             PyArray1::from_vec(py, floats(|h| h.v)),
         ))
+    }
+
+    /// How many triangles of the instanced meshes each ray crosses in `(t_min, t_max)` under its
+    /// mask, exactly (the crossing rule in each instance's object space; spheres do not count).
+    /// Raises `ValueError` for a standard-tier scene.
+    #[pyo3(signature = (rays, t_min, t_max, mask, threads = None))]
+    fn crossings<'py>(
+        &self,
+        py: Python<'py>,
+        rays: PyReadonlyArray2<'py, f32>,
+        t_min: PyReadonlyArray1<'py, f32>,
+        t_max: PyReadonlyArray1<'py, f32>,
+        mask: PyReadonlyArray1<'py, u32>,
+        threads: Option<usize>,
+    ) -> PyResult<Bound<'py, PyArray1<u32>>> {
+        self.committed()?;
+        let scene = vertex(&self.layout)?;
+        let (rays, masks, pool) = Self::query(&rays, &t_min, &t_max, &mask, threads)?;
+        let out = py.detach(|| {
+            traced::<Watertight, _>(scene, &rays, &masks, pool.as_ref(), 0, |t, r, m, o| {
+                for ((ray, &mask), o) in r.iter().zip(m).zip(o) {
+                    *o = t.crossings_ray(ray, mask);
+                }
+            })
+        });
+        Ok(PyArray1::from_vec(py, out))
+    }
+
+    /// Whether each point is inside the instanced closed meshes under `mask` (inside an odd
+    /// number of them), exactly for the point as each instance's map carries it. Raises
+    /// `ValueError` for a standard-tier scene.
+    #[pyo3(signature = (points, mask, threads = None))]
+    fn contains<'py>(
+        &self,
+        py: Python<'py>,
+        points: PyReadonlyArray2<'py, f32>,
+        mask: u32,
+        threads: Option<usize>,
+    ) -> PyResult<Bound<'py, PyArray1<bool>>> {
+        self.committed()?;
+        let scene = vertex(&self.layout)?;
+        let points = arrays::points(&points)?;
+        let pool = arrays::pool(threads)?;
+        let tracer = Tracer::<f32x8, Watertight, StableSphere>::new(scene.as_ref());
+        let mut out = vec![false; points.len()];
+        py.detach(|| {
+            map_into(pool.as_ref(), &points, &mut out, |_, p, o| {
+                for (p, o) in p.iter().zip(o) {
+                    *o = tracer.contains(*p, mask);
+                }
+            })
+        });
+        Ok(PyArray1::from_vec(py, out))
     }
 
     /// The nearest point of the scene (its instances under `mask`) to each point within

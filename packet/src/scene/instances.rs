@@ -14,11 +14,18 @@ use crate::tree::point::{Best as PointBest, KNearest, PointHit};
 use crate::tree::single::trace_single;
 use crate::tree::single::{run_prepared, run_single, Prepared};
 use crate::tree::slab::BoxRay;
+#[cfg(feature = "triangle")]
+use crate::tree::{
+    all_hits::each_hit,
+    solid::{CAST, PAGE},
+};
 use arrayvec::ArrayVec;
 use core::cell::OnceCell;
 use octoray_core::bvh::Bvh8Ref;
 use octoray_core::glam::Vec3;
 use octoray_core::hit::{AcceptAll, Hit, HitFilter};
+#[cfg(feature = "triangle")]
+use octoray_core::kernels::ExactCrossing;
 use octoray_core::kernels::Kernel;
 use octoray_core::kernels::NearestPoint;
 use octoray_core::lanes::{LaneMask, Lanes, MAX_LANES};
@@ -639,6 +646,31 @@ pub trait Trace<T, S> {
         self.occluded_ray_with::<L, KT, KS, _>(ray, mask, &mut collect);
         collect.found()
     }
+    /// How many triangles of the instances `mask` admits one ray crosses in `(t_min, t_max)`:
+    /// as [`crate::tree::crossings_ray`] in each instance's object space (the crossing rule,
+    /// [`ExactCrossing`], on the ray as the instance's map carries it there; each triangle of
+    /// each instance once). Spheres are not counted (`KS` only walks them). For instances of
+    /// closed meshes, each instance's crossings are even exactly when the ray's ends, as its
+    /// map carries them (rounded to f32; bit for bit the world ray under the identity), are on
+    /// the same side of its mesh.
+    #[cfg(feature = "triangle")]
+    fn crossings_ray<L: Lanes, KS: Kernel<L, Prim = S>>(&self, ray: &Ray, mask: u32) -> u32
+    where
+        ExactCrossing: Kernel<L, Prim = T>;
+    /// Whether `point` is inside the instanced closed meshes `mask` admits: the parity of the
+    /// crossings ([`Trace::crossings_ray`]) of a ray from it, so `true` inside an odd number of
+    /// them (inside any one where they do not overlap). Exact for the point as each instance's
+    /// map carries it into object space (rounded to f32; the point itself under the identity):
+    /// a point on a surface is classified as [`crate::tree::contains`] does; a non-finite point
+    /// is outside. Meaningful where every admitted triangle geometry is closed (check each with
+    /// [`octoray_core::bvh::Solid::new`]); spheres do not count.
+    #[cfg(feature = "triangle")]
+    fn contains<L: Lanes, KS: Kernel<L, Prim = S>>(&self, point: Vec3, mask: u32) -> bool
+    where
+        ExactCrossing: Kernel<L, Prim = T>,
+    {
+        self.crossings_ray::<L, KS>(&Ray::new(point, CAST), mask) % 2 == 1
+    }
     /// The primitive nearest to `point` whose distance is at most `max_dist`, over every
     /// instance `mask` admits: as [`crate::tree::closest_point`] (the point on it, its
     /// barycentrics and distance; `None` when none is that near, for a non-finite point and for
@@ -809,6 +841,23 @@ impl<T: octoray_core::prim::Primitive, S: octoray_core::prim::Primitive> Trace<T
         mask: u32,
     ) -> Option<Hit> {
         self.closest_ray_with::<L, KT, KS, _>(ray, mask, &mut AcceptAll)
+    }
+
+    #[cfg(feature = "triangle")]
+    fn crossings_ray<L: Lanes, KS: Kernel<L, Prim = S>>(&self, ray: &Ray, mask: u32) -> u32
+    where
+        ExactCrossing: Kernel<L, Prim = T>,
+    {
+        let geoms = self.geometries();
+        let mut n = 0u32;
+        each_hit::<PAGE>(
+            |after, page| self.all_hits_ray::<L, ExactCrossing, KS>(ray, mask, after, page),
+            |h| {
+                let kind = geoms.get(h.geom as usize).map(|g| g.kind);
+                n += u32::from(kind == Some(octoray_core::scene::TRIANGLES));
+            },
+        );
+        n
     }
 
     fn closest_ray_with<

@@ -6,6 +6,8 @@ use crate::tree::{AllHits, PointHit};
 use core::marker::PhantomData;
 use octoray_core::glam::Vec3;
 use octoray_core::hit::{Hit, HitFilter};
+#[cfg(feature = "triangle")]
+use octoray_core::kernels::ExactCrossing;
 use octoray_core::kernels::Kernel;
 use octoray_core::kernels::NearestPoint;
 use octoray_core::lanes::Lanes;
@@ -129,6 +131,25 @@ impl<'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Tracer<'a, L, KT, KS> {
         found: &mut [AllHits],
     ) {
         self.scene.all_hits::<L, KT, KS>(rays, mask, out, found);
+    }
+
+    /// [`Trace::crossings_ray`]: triangles by the crossing rule whatever `KT` is, spheres by
+    /// `KS`.
+    #[cfg(feature = "triangle")]
+    pub fn crossings_ray(&self, ray: &Ray, mask: u32) -> u32
+    where
+        ExactCrossing: Kernel<L, Prim = KT::Prim>,
+    {
+        self.scene.crossings_ray::<L, KS>(ray, mask)
+    }
+
+    /// [`Trace::contains`].
+    #[cfg(feature = "triangle")]
+    pub fn contains(&self, point: Vec3, mask: u32) -> bool
+    where
+        ExactCrossing: Kernel<L, Prim = KT::Prim>,
+    {
+        self.scene.contains::<L, KS>(point, mask)
     }
 
     /// [`Trace::closest_point`].

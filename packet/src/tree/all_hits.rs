@@ -206,6 +206,25 @@ pub fn all_hits<L: Lanes, K: Kernel<L>>(
     });
 }
 
+/// Calls `f` for every hit a paged all-hits `query` (given the cursor and a page, as
+/// [`all_hits_ray`] takes them) reports, a page of `PAGE` at a time.
+#[cfg(feature = "triangle")]
+pub(crate) fn each_hit<const PAGE: usize>(
+    mut query: impl FnMut(Option<Hit>, &mut [Hit]) -> AllHits,
+    mut f: impl FnMut(&Hit),
+) {
+    let mut page = [Hit::default(); PAGE];
+    let mut after = None;
+    loop {
+        let found = query(after, &mut page);
+        page[..found.stored].iter().for_each(&mut f);
+        if found.complete || found.stored == 0 {
+            return;
+        }
+        after = Some(page[found.stored - 1]);
+    }
+}
+
 /// The slice form of every all-hits query: checks the buffers' sizes, then has `walk` trace
 /// the rays in chunks of 64 (its first ray's index, the chunk, an occlusion buffer of its
 /// length) with one collector that files each ray's hits in its run of `out`.

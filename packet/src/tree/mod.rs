@@ -63,7 +63,7 @@ mod region;
 pub(crate) mod single;
 pub(crate) mod slab;
 #[cfg(feature = "triangle")]
-mod solid;
+pub(crate) mod solid;
 #[cfg(all(feature = "triangle", feature = "alloc"))]
 mod winding;
 

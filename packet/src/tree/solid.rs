@@ -1,13 +1,12 @@
 //! Exact crossing counts, containment and winding numbers of closed meshes: the walk of
 //! [`all_hits_ray`] with the crossing rule ([`ExactCrossing`]), a page of hits at a time.
 
-use super::all_hits::all_hits_ray;
+use super::all_hits::{all_hits_ray, each_hit};
 #[cfg(feature = "alloc")]
 use super::point::closest_point;
 use octoray_core::bvh::Bvh8Ref;
 #[cfg(feature = "alloc")]
 use octoray_core::bvh::Solid;
-#[cfg(feature = "alloc")]
 use octoray_core::glam::Vec3;
 use octoray_core::hit::Hit;
 #[cfg(feature = "alloc")]
@@ -17,26 +16,19 @@ use octoray_core::lanes::Lanes;
 use octoray_core::prim::{Ray, VertexTriangle};
 
 /// Hits collected per walk: a ray crossing more walks the tree again from the last one.
-const PAGE: usize = 32;
+pub(crate) const PAGE: usize = 32;
 
 /// The direction containment casts in: any works (the answer does not depend on it); one off
 /// the axes and diagonals keeps rays off the edges and faces of axis-aligned and grid meshes,
 /// where ties cost exact arithmetic.
-#[cfg(feature = "alloc")]
-const CAST: Vec3 = Vec3::new(1.0, 0.371_3, 0.194_7);
+pub(crate) const CAST: Vec3 = Vec3::new(1.0, 0.371_3, 0.194_7);
 
 /// Calls `f` once for every triangle the ray crosses under the crossing rule.
-fn each_crossing<L: Lanes>(bvh: Bvh8Ref<'_, VertexTriangle>, ray: &Ray, mut f: impl FnMut(&Hit)) {
-    let mut page = [Hit::default(); PAGE];
-    let mut after = None;
-    loop {
-        let found = all_hits_ray::<L, ExactCrossing>(bvh, ray, after, &mut page);
-        page[..found.stored].iter().for_each(&mut f);
-        if found.complete || found.stored == 0 {
-            return;
-        }
-        after = Some(page[found.stored - 1]);
-    }
+fn each_crossing<L: Lanes>(bvh: Bvh8Ref<'_, VertexTriangle>, ray: &Ray, f: impl FnMut(&Hit)) {
+    each_hit::<PAGE>(
+        |after, page| all_hits_ray::<L, ExactCrossing>(bvh, ray, after, page),
+        f,
+    );
 }
 
 /// How many triangles one ray crosses in `(t_min, t_max)` under the crossing rule
