@@ -239,3 +239,25 @@ pub fn collect<I: Sync, O: Send>(
         None => run(),
     }
 }
+
+/// `f` of every point of `points`, spread over `threads` without the GIL; `init` fills the
+/// answers first.
+pub fn per_point<T: Clone + Send>(
+    py: Python<'_>,
+    points: &PyReadonlyArray2<'_, f32>,
+    threads: Option<usize>,
+    init: T,
+    f: impl Fn(Vec3) -> T + Sync,
+) -> PyResult<Vec<T>> {
+    let points = self::points(points)?;
+    let pool = pool(threads)?;
+    let mut out = vec![init; points.len()];
+    py.detach(|| {
+        map_into(pool.as_ref(), &points, &mut out, |_, p, o| {
+            for (p, o) in p.iter().zip(o) {
+                *o = f(*p);
+            }
+        })
+    });
+    Ok(out)
+}

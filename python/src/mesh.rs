@@ -327,7 +327,7 @@ impl Mesh {
             )));
         }
         let winding = WindingTree::new(self.bvh());
-        let out = self.per_point(py, &points, threads, f64::NAN, |p| {
+        let out = arrays::per_point(py, &points, threads, f64::NAN, |p| {
             tree::generalized_winding_number(&winding, p, tolerance)
         })?;
         Ok(PyArray1::from_vec(py, out))
@@ -356,7 +356,7 @@ impl Mesh {
         threads: Option<usize>,
     ) -> PyResult<NearestPoints<'py>> {
         let bvh = self.bvh();
-        let found = self.per_point(py, &points, threads, None, |p| {
+        let found = arrays::per_point(py, &points, threads, None, |p| {
             tree::closest_point(bvh, p, max_distance)
         })?;
         let n = found.len();
@@ -390,29 +390,7 @@ impl Mesh {
         f: impl Fn(Solid<'_>, Vec3) -> T + Sync,
     ) -> PyResult<Bound<'py, PyArray1<T>>> {
         let solid = self.solid()?;
-        let out = self.per_point(py, points, threads, init, |p| f(solid, p))?;
+        let out = arrays::per_point(py, points, threads, init, |p| f(solid, p))?;
         Ok(PyArray1::from_vec(py, out))
-    }
-
-    /// `f` of every point, spread over threads without the GIL.
-    fn per_point<T: Clone + Send>(
-        &self,
-        py: Python<'_>,
-        points: &PyReadonlyArray2<'_, f32>,
-        threads: Option<usize>,
-        init: T,
-        f: impl Fn(Vec3) -> T + Sync,
-    ) -> PyResult<Vec<T>> {
-        let points = arrays::points(points)?;
-        let pool = arrays::pool(threads)?;
-        let mut out = vec![init; points.len()];
-        py.detach(|| {
-            map_into(pool.as_ref(), &points, &mut out, |_, p, o| {
-                for (p, o) in p.iter().zip(o) {
-                    *o = f(*p);
-                }
-            })
-        });
-        Ok(out)
     }
 }

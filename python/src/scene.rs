@@ -152,22 +152,18 @@ where
 /// The nearest point of `scene` to every point within `max_dist`, under `mask`.
 fn nearest<KT: Kernel<f32x8>>(
     scene: &Built<KT::Prim, PackedSphere>,
-    points: &[Vec3],
-    max_dist: f32,
-    mask: u32,
-    pool: Option<&rayon::ThreadPool>,
-) -> Vec<Option<PointHit>>
+    py: Python<'_>,
+    points: &PyReadonlyArray2<'_, f32>,
+    (max_dist, mask): (f32, u32),
+    threads: Option<usize>,
+) -> PyResult<Vec<Option<PointHit>>>
 where
     KT::Prim: Primitive + NearestPoint,
 {
     let tracer = Tracer::<f32x8, KT, StableSphere>::new(scene.as_ref());
-    let mut out = vec![None; points.len()];
-    map_into(pool, points, &mut out, |_, p, o| {
-        for (p, o) in p.iter().zip(o) {
-            *o = tracer.closest_point(*p, max_dist, mask);
-        }
-    });
-    out
+    arrays::per_point(py, points, threads, None, |p| {
+        tracer.closest_point(p, max_dist, mask)
+    })
 }
 
 /// The scene in the vertex layout (watertight and exact tiers), or the `ValueError` a crossing
@@ -526,17 +522,8 @@ impl Scene {
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
         self.committed()?;
         let scene = vertex(&self.layout)?;
-        let points = arrays::points(&points)?;
-        let pool = arrays::pool(threads)?;
         let tracer = Tracer::<f32x8, Watertight, StableSphere>::new(scene.as_ref());
-        let mut out = vec![false; points.len()];
-        py.detach(|| {
-            map_into(pool.as_ref(), &points, &mut out, |_, p, o| {
-                for (p, o) in p.iter().zip(o) {
-                    *o = tracer.contains(*p, mask);
-                }
-            })
-        });
+        let out = arrays::per_point(py, &points, threads, false, |p| tracer.contains(p, mask))?;
         Ok(PyArray1::from_vec(py, out))
     }
 
@@ -552,15 +539,11 @@ impl Scene {
         threads: Option<usize>,
     ) -> PyResult<NearestPoints<'py>> {
         self.committed()?;
-        let points = arrays::points(&points)?;
-        let pool = arrays::pool(threads)?;
-        let pool = pool.as_ref();
-        let found = py.detach(|| match (&self.layout, self.tier) {
-            (Layout::Packed(s), _) => {
-                nearest::<MollerTrumbore>(s, &points, max_distance, mask, pool)
-            }
-            (Layout::Vertex(s), _) => nearest::<Watertight>(s, &points, max_distance, mask, pool),
-        });
+        let query = (max_distance, mask);
+        let found = match &self.layout {
+            Layout::Packed(s) => nearest::<MollerTrumbore>(s, py, &points, query, threads)?,
+            Layout::Vertex(s) => nearest::<Watertight>(s, py, &points, query, threads)?,
+        };
         let n = found.len();
         let mut point = vec![f32::NAN; 3 * n];
         let mut dist = vec![f32::INFINITY; n];
