@@ -77,6 +77,17 @@ typedef struct OctorayHit {
   uint32_t inst;
 } OctorayHit;
 
+// Where a primitive of a scene lies: the instance path it is reached through, its geometry and
+// its index in the geometry (ordered in that order).
+typedef struct OctorayPlace {
+  // The instance path.
+  uint32_t inst;
+  // The geometry.
+  uint32_t geom;
+  // The primitive's index in its geometry.
+  uint32_t prim;
+} OctorayPlace;
+
 // The primitive nearest to a point, and the point on it (a miss: `prim == OCTORAY_NO_HIT`,
 // `dist` infinite, the rest 0).
 typedef struct OctorayPointHit {
@@ -300,6 +311,29 @@ enum OctorayStatus octoray_all_hits1(const struct OctorayScene *scene,
                                      size_t capacity,
                                      size_t *stored,
                                      uint8_t *complete);
+
+// The primitives that meet the closed world box `[lo, hi]` (three floats each) among the
+// instances and geometries whose masks share a bit with `mask`, in ascending order of place,
+// each once: the first `capacity` after `*after` (null: from the start) into `places`.
+// `*stored` gets how many were written and `*complete` 1 when they are all of them, 0 when
+// more follow: call again with `after` the last one written. Each candidate is tested in world
+// space (an instanced sphere as the ellipsoid its instance makes of it), exactly but for
+// primitives touching the box within a few units of 2⁻⁵⁰ of its coordinates; a box with a NaN
+// corner or `lo > hi` on an axis meets nothing.
+//
+// # Safety
+// `scene` is a live scene not changed meanwhile; `lo` and `hi` are valid for reading three
+// floats; `after` is null or valid for reading; `places` is valid for writing `capacity`
+// places (may be null when `capacity` is 0); `stored` and `complete` are valid for writing.
+enum OctorayStatus octoray_overlapping1(const struct OctorayScene *scene,
+                                        const float *lo,
+                                        const float *hi,
+                                        uint32_t mask,
+                                        const struct OctorayPlace *after,
+                                        struct OctorayPlace *places,
+                                        size_t capacity,
+                                        size_t *stored,
+                                        uint8_t *complete);
 
 // The primitive nearest to `point` (three floats, world space) at a distance of at most
 // `max_dist` (`INFINITY`: no limit) among the instances and geometries whose masks share a bit

@@ -807,6 +807,79 @@ impl From<Option<PointHit>> for OctorayPointHit {
     }
 }
 
+/// Where a primitive of a scene lies: the instance path it is reached through, its geometry and
+/// its index in the geometry (ordered in that order).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord)]
+pub struct OctorayPlace {
+    /// The instance path.
+    pub inst: u32,
+    /// The geometry.
+    pub geom: u32,
+    /// The primitive's index in its geometry.
+    pub prim: u32,
+}
+
+impl From<octoray::scene::Place> for OctorayPlace {
+    fn from(p: octoray::scene::Place) -> Self {
+        Self {
+            inst: p.inst,
+            geom: p.geom,
+            prim: p.prim,
+        }
+    }
+}
+
+impl From<OctorayPlace> for octoray::scene::Place {
+    fn from(p: OctorayPlace) -> Self {
+        Self {
+            inst: p.inst,
+            geom: p.geom,
+            prim: p.prim,
+        }
+    }
+}
+
+/// The primitives that meet the closed world box `[lo, hi]` (three floats each) among the
+/// instances and geometries whose masks share a bit with `mask`, in ascending order of place,
+/// each once: the first `capacity` after `*after` (null: from the start) into `places`.
+/// `*stored` gets how many were written and `*complete` 1 when they are all of them, 0 when
+/// more follow: call again with `after` the last one written. Each candidate is tested in world
+/// space (an instanced sphere as the ellipsoid its instance makes of it), exactly but for
+/// primitives touching the box within a few units of 2⁻⁵⁰ of its coordinates; a box with a NaN
+/// corner or `lo > hi` on an axis meets nothing.
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `lo` and `hi` are valid for reading three
+/// floats; `after` is null or valid for reading; `places` is valid for writing `capacity`
+/// places (may be null when `capacity` is 0); `stored` and `complete` are valid for writing.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)] // the C signature
+pub unsafe extern "C" fn octoray_overlapping1(
+    scene: *const OctorayScene,
+    lo: *const f32,
+    hi: *const f32,
+    mask: u32,
+    after: *const OctorayPlace,
+    places: *mut OctorayPlace,
+    capacity: usize,
+    stored: *mut usize,
+    complete: *mut u8,
+) -> OctorayStatus {
+    // SAFETY: the same contract.
+    unsafe {
+        trace::overlapping(
+            "octoray_overlapping1",
+            scene,
+            (lo, hi),
+            mask,
+            after,
+            (places, capacity),
+            (stored, complete),
+        )
+    }
+}
+
 /// The primitive nearest to `point` (three floats, world space) at a distance of at most
 /// `max_dist` (`INFINITY`: no limit) among the instances and geometries whose masks share a bit
 /// with `mask`, into `*out`: the point on it, its distance and barycentrics, where it lies; a

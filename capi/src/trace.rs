@@ -9,9 +9,10 @@ use octoray::prim::{PackedSphere, PackedTriangle, Ray, RayLanes, VertexTriangle}
 use octoray::scene::Trace;
 
 use crate::{
-    null_check, put, run, scene_ref, slice, slice_mut, OctorayHit, OctorayHits, OctorayPointHit,
-    OctorayRay, OctorayRays, OctorayScene, OctorayStatus, OctorayTier, View,
+    null_check, put, run, scene_ref, slice, slice_mut, OctorayHit, OctorayHits, OctorayPlace,
+    OctorayPointHit, OctorayRay, OctorayRays, OctorayScene, OctorayStatus, OctorayTier, View,
 };
+use octoray::glam::Vec3;
 
 /// Dispatches `$body` over the view's layout and the scene's tier: `$s` is the scene, `$KT`
 /// the triangle kernel.
@@ -417,4 +418,64 @@ fn vertex_view<'s>(
             format!("{call}: a standard-tier scene has no crossing rule (use the watertight or exact tier)"),
         )),
     }
+}
+
+/// `octoray_overlapping1`: the first `capacity` places after `after` of the primitives that meet
+/// the world box `[lo, hi]`, ascending; returns how many were written and whether they are all.
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `lo` and `hi` are valid for reading three
+/// floats; `after` is null or valid for reading; `places` is valid for writing `capacity`
+/// places; `stored` and `complete` for writing.
+pub(crate) unsafe fn overlapping(
+    call: &str,
+    scene: *const OctorayScene,
+    (lo, hi): (*const f32, *const f32),
+    mask: u32,
+    after: *const OctorayPlace,
+    (places, capacity): (*mut OctorayPlace, usize),
+    (stored, complete): (*mut usize, *mut u8),
+) -> OctorayStatus {
+    run(|| {
+        // SAFETY: the caller's contract.
+        let s = unsafe { scene_ref(scene, call) }?;
+        // SAFETY: the caller's contract.
+        let (lo, hi) = unsafe { (slice(lo, 3, call, "lo")?, slice(hi, 3, call, "hi")?) };
+        let after = if after.is_null() {
+            None
+        } else {
+            // SAFETY: non-null and, by the contract, valid for reading.
+            Some(octoray::scene::Place::from(unsafe { *after }))
+        };
+        // SAFETY: the caller's contract.
+        let out = unsafe { slice_mut(places, capacity, call, "places") }?;
+        let stored = null_check(stored, call, "stored")?;
+        let complete = null_check(complete, call, "complete")?;
+        let (lo, hi) = (Vec3::from_slice(lo), Vec3::from_slice(hi));
+        let view = s.view(call)?;
+        // A page at a time into the caller's buffer, as the all-hits call does.
+        let mut page = [octoray::scene::Place::default(); ALL_HITS_PAGE];
+        let (mut n, mut cursor) = (0, after);
+        let all = loop {
+            let page = &mut page[..(out.len() - n).min(ALL_HITS_PAGE)];
+            let f = match &view {
+                View::Packed(sc) => sc.overlapping(lo, hi, mask, cursor, page),
+                View::Vertex(sc) => sc.overlapping(lo, hi, mask, cursor, page),
+            };
+            for (o, p) in out[n..].iter_mut().zip(&page[..f.stored]) {
+                *o = OctorayPlace::from(*p);
+            }
+            n += f.stored;
+            if f.complete || n == out.len() {
+                break f.complete;
+            }
+            cursor = Some(page[f.stored - 1]);
+        };
+        // SAFETY: non-null and, by the contract, valid for writing.
+        unsafe {
+            put(stored, n);
+            put(complete, u8::from(all));
+        }
+        Ok(())
+    })
 }

@@ -564,3 +564,72 @@ fn crossings_and_containment_through_instances() {
     // SAFETY: `scene` is live.
     unsafe { octoray_scene_free(scene) };
 }
+
+#[test]
+fn boxes_find_the_primitives_they_meet_paged() {
+    // The tetrahedron at +x 5 (instance 0, geometry 0), the ball at z = 5 (instance 1, geometry 1).
+    let scene = small(1);
+    let query = |lo: [f32; 3], hi: [f32; 3], mask: u32, cap: usize| {
+        let (mut all, mut after) = (vec![], None::<OctorayPlace>);
+        loop {
+            let mut page = vec![OctorayPlace::default(); cap];
+            let (mut stored, mut complete) = (0, 0);
+            let a = after.as_ref().map_or(null(), |a| a as *const _);
+            // SAFETY: every pointer is valid for what the call reads or writes.
+            let s = unsafe {
+                octoray_overlapping1(
+                    scene,
+                    lo.as_ptr(),
+                    hi.as_ptr(),
+                    mask,
+                    a,
+                    page.as_mut_ptr(),
+                    cap,
+                    &mut stored,
+                    &mut complete,
+                )
+            };
+            assert_eq!(s, OctorayStatus::Ok);
+            all.extend_from_slice(&page[..stored]);
+            if complete == 1 {
+                return all;
+            }
+            after = Some(page[stored - 1]);
+        }
+    };
+    let p = |inst, geom, prim| OctorayPlace { inst, geom, prim };
+    let tet: Vec<_> = (0..4).map(|k| p(0, 0, k)).collect();
+    for cap in [1, 2, 64] {
+        assert_eq!(query([4.5, -1.0, -1.0], [6.5, 2.0, 2.0], !0, cap), tet);
+        let mut both = tet.clone();
+        both.push(p(1, 1, 0));
+        assert_eq!(query([-1.0; 3], [7.0, 7.0, 7.0], !0, cap), both);
+        assert_eq!(query([-1.0; 3], [7.0, 7.0, 7.0], 2, cap), vec![p(1, 1, 0)]);
+    }
+    // The face x + y + z = 1 of the tetrahedron (its triangle 3) alone, and nothing beyond it.
+    let near = query([5.15, 0.35, 0.35], [5.25, 0.45, 0.45], !0, 4);
+    assert_eq!(near, vec![p(0, 0, 3)]);
+    assert_eq!(query([5.5, 0.5, 0.5], [5.6, 0.6, 0.6], !0, 4), vec![]);
+    // A NaN corner or an inverted box meets nothing; a missing output is an error.
+    assert_eq!(query([f32::NAN, 0.0, 0.0], [7.0; 3], !0, 4), vec![]);
+    assert_eq!(query([7.0; 3], [-1.0; 3], !0, 4), vec![]);
+    let (lo, hi) = ([0.0f32; 3], [1.0f32; 3]);
+    let mut complete = 0;
+    // SAFETY: a null `stored` is reported, not written.
+    let s = unsafe {
+        octoray_overlapping1(
+            scene,
+            lo.as_ptr(),
+            hi.as_ptr(),
+            !0,
+            null(),
+            null_mut(),
+            0,
+            null_mut(),
+            &mut complete,
+        )
+    };
+    assert_eq!(s, OctorayStatus::NullPointer);
+    // SAFETY: `scene` is live.
+    unsafe { octoray_scene_free(scene) };
+}

@@ -266,11 +266,25 @@ class Mesh:
         closed."""
         return self._mesh.signed_distance(_rows(points, 3, "points"), _threads(threads))
 
+    def overlapping(self, lo, hi) -> np.ndarray:
+        """The faces that meet the closed box ``[lo, hi]`` (int64 indices, ascending; exact but
+        for faces touching the box within a few units of 2**-50 of its coordinates). A box with
+        a NaN corner or ``lo > hi`` on an axis meets nothing."""
+        return self._mesh.overlapping(_corner(lo, "lo"), _corner(hi, "hi"))
+
     def closest_points(self, points, max_distance=np.inf, threads=None) -> ClosestPoints:
         """The nearest point of the mesh to each point, within ``max_distance``."""
         p = _rows(points, 3, "points")
         d = float(max_distance)
         return ClosestPoints(*self._mesh.closest_points(p, d, _threads(threads)))
+
+
+def _corner(x, name):
+    """A box corner as three floats."""
+    c = np.asarray(x, dtype=np.float32)
+    if c.shape != (3,):
+        raise ValueError(f"{name} must be 3 numbers, got shape {c.shape}")
+    return c.tolist()
 
 
 def _placement(transform):
@@ -397,6 +411,16 @@ class Scene:
         p = _rows(points, 3, "points")
         m = int(_mask(mask, 1)[0])
         return self._scene.contains(p, m, _threads(threads))
+
+    def overlapping(self, lo, hi, mask=0xFFFFFFFF) -> np.ndarray:
+        """The primitives of the instances whose mask shares a bit with ``mask`` that meet the
+        closed world box ``[lo, hi]``: (n, 3) int64 rows of instance, geometry and primitive,
+        ascending, each once. Each is tested in world space (an instanced sphere as the
+        ellipsoid its instance makes of it)."""
+        if self._changed:
+            self.commit()
+        m = int(_mask(mask, 1)[0])
+        return self._scene.overlapping(_corner(lo, "lo"), _corner(hi, "hi"), m)
 
     def closest_points(self, points, max_distance=np.inf, mask=0xFFFFFFFF, threads=None) -> SceneClosestPoints:
         """The nearest point of the scene (its instances whose mask shares a bit with

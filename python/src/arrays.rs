@@ -194,23 +194,31 @@ pub fn map_into<I: Sync, O: Send>(
 /// Hits collected per walk of an all-hits query: a ray with more walks again after the last.
 const PAGE: usize = 64;
 
-/// Every hit of one ray, a page at a time: `walk(after, page)` stores the hits after `after`
-/// (in hit order) at the front of `page`; each is appended to `out` with the ray's index `i`.
-pub fn paged(
-    i: usize,
-    out: &mut Vec<(usize, Hit)>,
-    mut walk: impl FnMut(Option<Hit>, &mut [Hit]) -> AllHits,
+/// Every item a paged query reports (`walk(after, page)`, as the library's all-hits and box
+/// queries take a cursor and a page), one page at a time, to `f`.
+pub fn pages<T: Copy + Default>(
+    mut walk: impl FnMut(Option<T>, &mut [T]) -> AllHits,
+    mut f: impl FnMut(T),
 ) {
-    let mut page = [Hit::default(); PAGE];
+    let mut page = [T::default(); PAGE];
     let mut after = None;
     loop {
         let found = walk(after, &mut page);
-        out.extend(page[..found.stored].iter().map(|h| (i, *h)));
+        page[..found.stored].iter().for_each(|x| f(*x));
         if found.complete || found.stored == 0 {
             return;
         }
         after = Some(page[found.stored - 1]);
     }
+}
+
+/// Ray `i`'s hits from a paged all-hits `walk`, appended to `out` with the ray's index.
+pub fn paged(
+    i: usize,
+    out: &mut Vec<(usize, Hit)>,
+    walk: impl FnMut(Option<Hit>, &mut [Hit]) -> AllHits,
+) {
+    pages(walk, |h| out.push((i, h)));
 }
 
 /// `each(i, &input[i], out)` for every `i`, spread over `pool`'s threads in chunks, the outputs

@@ -333,6 +333,25 @@ impl Mesh {
         Ok(PyArray1::from_vec(py, out))
     }
 
+    /// The faces that meet the closed box `[lo, hi]`, ascending (int64 indices).
+    fn overlapping<'py>(
+        &self,
+        py: Python<'py>,
+        lo: [f32; 3],
+        hi: [f32; 3],
+    ) -> Bound<'py, PyArray1<i64>> {
+        let (lo, hi) = (Vec3::from(lo), Vec3::from(hi));
+        let mut ids: Vec<i64> = Vec::new();
+        let bvh = self.bvh();
+        py.detach(|| {
+            arrays::pages(
+                |after, page| tree::overlapping(bvh, lo, hi, after, page),
+                |id: u32| ids.push(i64::from(id)),
+            )
+        });
+        PyArray1::from_vec(py, ids)
+    }
+
     /// The signed distance from each point to the closed mesh: negative inside (the sign
     /// exact), NaN for a non-finite point. Raises `ValueError` for a mesh that is not closed.
     #[pyo3(signature = (points, threads = None))]

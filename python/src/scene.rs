@@ -10,7 +10,7 @@ use octoray::hit::Hit;
 use octoray::kernels::{Exact, Kernel, MollerTrumbore, NearestPoint, StableSphere, Watertight};
 use octoray::parallel::Rayon;
 use octoray::prim::{PackedSphere, PackedTriangle, Primitive, Ray, VertexTriangle};
-use octoray::scene::{Scene as Built, Tracer, Transform};
+use octoray::scene::{Place, Scene as Built, Trace, Tracer, Transform};
 use octoray::shading::Shade;
 use octoray::tree::PointHit;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
@@ -525,6 +525,35 @@ impl Scene {
         let tracer = Tracer::<f32x8, Watertight, StableSphere>::new(scene.as_ref());
         let out = arrays::per_point(py, &points, threads, false, |p| tracer.contains(p, mask))?;
         Ok(PyArray1::from_vec(py, out))
+    }
+
+    /// Every primitive of the instances under `mask` that meets the closed world box
+    /// `[lo, hi]`, ascending, each once: `(n, 3)` rows of instance path, geometry and primitive.
+    fn overlapping<'py>(
+        &self,
+        py: Python<'py>,
+        lo: [f32; 3],
+        hi: [f32; 3],
+        mask: u32,
+    ) -> PyResult<Bound<'py, numpy::PyArray2<i64>>> {
+        self.committed()?;
+        let (lo, hi) = (Vec3::from(lo), Vec3::from(hi));
+        let mut rows: Vec<i64> = Vec::new();
+        py.detach(|| {
+            let mut push = |p: Place| rows.extend([p.inst, p.geom, p.prim].map(i64::from));
+            match &self.layout {
+                Layout::Packed(s) => arrays::pages(
+                    |after, page| s.as_ref().overlapping(lo, hi, mask, after, page),
+                    &mut push,
+                ),
+                Layout::Vertex(s) => arrays::pages(
+                    |after, page| s.as_ref().overlapping(lo, hi, mask, after, page),
+                    &mut push,
+                ),
+            }
+        });
+        let n = rows.len() / 3;
+        PyArray1::from_vec(py, rows).reshape([n, 3])
     }
 
     /// The nearest point of the scene (its instances under `mask`) to each point within

@@ -209,3 +209,46 @@ def test_crossings_and_containment_through_instances():
         st = octoray.Scene("standard")
         st.add_instance(st.add_mesh(v, f))
         st.contains(p)
+
+
+def test_boxes_through_instances_against_placed_meshes():
+    """The box query on a scene of moved, rotated and scaled mesh instances and a stretched ball
+    against each placed mesh's own box query (triangles: the same faces away from touching) and
+    the ellipsoid's."""
+    rng = np.random.default_rng(6)
+    v = rng.uniform(-1, 1, (80, 3)).astype(np.float32)
+    f = rng.integers(0, 80, (120, 3))
+    places = [translation(4, 0, 0), translation(-4, 0, 0) @ rotation_scale(0.6, 2, (1.5, 1, 0.5))]
+    s = octoray.Scene()
+    g = s.add_mesh(v, f)
+    for m in places:
+        s.add_instance(g, m, mask=1)
+    b = s.add_spheres(np.zeros((1, 3)), np.ones(1))
+    s.add_instance(b, translation(0, 6, 0) @ rotation_scale(0.0, 0, (3, 1, 1)), mask=2)
+    for _ in range(40):
+        c = rng.uniform(-6, 6, 3)
+        h = rng.uniform(0.05, 2, 3)
+        lo, hi = c - h, c + h
+        got = s.overlapping(lo, hi)
+        assert got.dtype == np.int64 and got.shape[1] == 3
+        assert (np.diff(got[:, 0] * 10**6 + got[:, 2]) > 0).all()
+        for k, m in enumerate(places):
+            w = (np.c_[v, np.ones(len(v))] @ m.T)[:, :3].astype(np.float32)
+            want = octoray.Mesh(w, f).overlapping(lo, hi)
+            mine = got[got[:, 0] == k][:, 2]
+            # Placed in f32 against carried in f64: the same faces but where one touches the box.
+            assert len(np.setxor1d(mine, want)) <= 1
+        ball = got[got[:, 1] == b]
+        # The ellipsoid x^2/9 + (y - 6)^2 + z^2 <= 1 against the box: its nearest point, by a fine
+        # sampling of the box, inside or not.
+        t = np.linspace(0, 1, 24)
+        grid = lo + np.stack(np.meshgrid(t, t, t), -1).reshape(-1, 3) * (hi - lo)
+        inside = ((grid[:, 0] / 3) ** 2 + (grid[:, 1] - 6) ** 2 + grid[:, 2] ** 2).min()
+        if inside < 0.97:
+            assert len(ball) == 1
+        if inside > 1.5:
+            assert len(ball) == 0
+    assert len(s.overlapping([-100] * 3, [100] * 3, mask=2)) == 1
+    assert len(s.overlapping([1, 1, 1], [0, 0, 0])) == 0
+    with pytest.raises(ValueError):
+        s.overlapping([0, 0], [1, 1, 1])

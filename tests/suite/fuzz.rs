@@ -1106,6 +1106,37 @@ fn run_scene(rng: &mut Rng) {
     for (i, ray) in rays.iter().enumerate() {
         assert_eq!(packet.lane(i), out[i], "scene packet, {ray:?}");
     }
+    // Box queries and crossing counts on hostile scenes: places in range, ascending, each once;
+    // paging gives what one large buffer gives; crossings counted without a panic.
+    for ray in rays.iter().take(4) {
+        let half = Vec3::splat(10f32.powi(rng.below(8) as i32 - 4));
+        let (lo, hi) = (ray.origin - half, ray.origin + half);
+        let mut big = [octoray::scene::Place::default(); 256];
+        let all = r.overlapping(lo, hi, mask, None, &mut big);
+        for (k, p) in big[..all.stored].iter().enumerate() {
+            let g = scene.geometries()[p.geom as usize];
+            assert!(p.prim < g.prims, "box place {p:?}");
+            assert!(
+                k == 0 || big[k - 1] < *p,
+                "box order {:?}",
+                &big[..all.stored]
+            );
+        }
+        let (mut paged, mut page, mut after) =
+            (vec![], [octoray::scene::Place::default(); 2], None);
+        loop {
+            let f = r.overlapping(lo, hi, mask, after, &mut page);
+            paged.extend_from_slice(&page[..f.stored]);
+            if f.complete || paged.len() > 256 {
+                break;
+            }
+            after = Some(page[f.stored - 1]);
+        }
+        if all.complete {
+            assert_eq!(paged, big[..all.stored].to_vec(), "paged boxes {lo}..{hi}");
+        }
+        let _ = r.crossings_ray::<f32x8, StableSphere>(ray, mask);
+    }
     check_work_bound(&r, &rays);
     duplicated_unbounded_entries(&r, &rays, rng);
     // The slices, corrupted: rejected, or traced within bounds.

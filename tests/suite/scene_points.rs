@@ -6,7 +6,7 @@
 
 use super::scene::{overlapping_world, pack_vertex, world, Geom, Place, Target, World};
 use octoray::glam::{Affine3A, Vec3};
-use octoray::kernels::{Nearest, NearestPoint};
+use octoray::kernels::{MeetsBox, Nearest, NearestPoint};
 use octoray::prim::{Affine64, PackedSphere, VertexTriangle};
 use octoray::scene::{Scene, Trace, Transform};
 use octoray::tree::PointHit;
@@ -167,6 +167,150 @@ fn case_on(seed: u64, w: &World<VertexTriangle>, rays: &[octoray::prim::Ray]) ->
         }
     }
     found
+}
+
+/// Brute force's box query: every admitted primitive of `places` (a level whose maps to and
+/// from the world are `maps`, composed as the walk composes them) tested in world space, where
+/// each lies, sorted.
+fn brute_boxes(
+    w: &World<VertexTriangle>,
+    places: &[Place],
+    maps: (Affine64, Affine64),
+    (lo, hi): ([f64; 3], [f64; 3]),
+    mask: u32,
+    path: &mut u32,
+    out: &mut Vec<(u32, u32, u32)>,
+) {
+    for inst in places {
+        let a = inst.transform.to_f64();
+        let here = a.inverse().map(|inv| (inv.then(&maps.0), maps.1.then(&a)));
+        let geoms = match &inst.target {
+            Target::Group(g) => {
+                if let Some(m) = here {
+                    brute_boxes(w, &w.groups[*g], m, (lo, hi), mask & inst.mask, path, out);
+                } else {
+                    // Left out, its paths still counted.
+                    let (i, o) = (Affine64::IDENTITY, Affine64::IDENTITY);
+                    let mut none = Vec::new();
+                    brute_boxes(w, &w.groups[*g], (i, o), (lo, hi), 0, path, &mut none);
+                }
+                continue;
+            }
+            Target::Geoms(geoms) => geoms,
+        };
+        for &geom in geoms {
+            let (g, gmask) = &w.geoms[geom as usize];
+            let Some((to_world, to_here)) = here.filter(|_| inst.mask & gmask & mask != 0) else {
+                continue;
+            };
+            let identity = to_world == Affine64::IDENTITY;
+            let meets = |m: &dyn Fn() -> bool, plain: &dyn Fn() -> bool| {
+                if identity {
+                    plain()
+                } else {
+                    m()
+                }
+            };
+            let n = match g {
+                Geom::Tris(ts) => ts.len(),
+                Geom::Spheres(ss) => ss.len(),
+            };
+            for i in 0..n {
+                let hit = match g {
+                    Geom::Tris(ts) => {
+                        meets(&|| ts[i].meets_mapped(&to_world, &to_here, lo, hi), &|| {
+                            ts[i].meets(lo, hi)
+                        })
+                    }
+                    Geom::Spheres(ss) => {
+                        meets(&|| ss[i].meets_mapped(&to_world, &to_here, lo, hi), &|| {
+                            ss[i].meets(lo, hi)
+                        })
+                    }
+                };
+                if hit {
+                    out.push((*path, geom, i as u32));
+                }
+            }
+        }
+        *path += 1;
+    }
+}
+
+/// The scene's box query, paged three at a time, against brute force; returns how many it found.
+fn check_boxes(
+    w: &World<VertexTriangle>,
+    r: octoray::scene::SceneRef<'_, VertexTriangle, PackedSphere>,
+    lo: Vec3,
+    hi: Vec3,
+    mask: u32,
+) -> usize {
+    let mut want = Vec::new();
+    let b = (lo.to_array().map(f64::from), hi.to_array().map(f64::from));
+    let id = (Affine64::IDENTITY, Affine64::IDENTITY);
+    if lo.cmple(hi).all() {
+        brute_boxes(w, &w.insts, id, b, mask, &mut 0, &mut want);
+    }
+    want.sort();
+    want.dedup();
+    let (mut got, mut page, mut after) = (vec![], [octoray::scene::Place::default(); 3], None);
+    loop {
+        let f = r.overlapping(lo, hi, mask, after, &mut page);
+        got.extend(page[..f.stored].iter().map(|p| (p.inst, p.geom, p.prim)));
+        if f.complete {
+            break;
+        }
+        after = Some(page[f.stored - 1]);
+    }
+    assert_eq!(got, want, "box {lo}..{hi} mask {mask}");
+    got.len()
+}
+
+/// Boxes around points near the world's primitives, of sizes from a speck to the world's.
+fn boxes_case(seed: u64, w: &World<VertexTriangle>, rays: &[octoray::prim::Ray]) -> usize {
+    let scene = w.scene();
+    let mut rng = Rng(seed ^ 0xB0);
+    let mut found = 0;
+    for p in points(&mut rng, rays).into_iter().take(12) {
+        let half = Vec3::new(
+            rng.range(0.0, 1.0),
+            rng.range(0.0, 1.0),
+            rng.range(0.0, 1.0),
+        ) * 10f32.powf(rng.range(-3.0, 1.5));
+        for mask in [!0, 1] {
+            found += check_boxes(w, scene.as_ref(), p - half, p + half, mask);
+        }
+    }
+    found
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+    #[test]
+    fn scene_box_queries_equal_brute_force_over_instanced_primitives(seed in any::<u64>()) {
+        let (w, rays) = world(seed, pack_vertex);
+        boxes_case(seed, &w, &rays);
+    }
+}
+
+#[test]
+fn many_scene_boxes_find_primitives() {
+    let found: usize = (0..12)
+        .map(|s| {
+            let (w, rays) = world(s * 7919, pack_vertex);
+            boxes_case(s, &w, &rays)
+        })
+        .sum();
+    let overlapping: usize = (0..3)
+        .map(|s| {
+            let (w, rays) = overlapping_world(s);
+            boxes_case(s, &w, &rays)
+        })
+        .sum();
+    assert!(
+        found > 300 && overlapping > 100,
+        "only {found} / {overlapping} found"
+    );
 }
 
 proptest! {

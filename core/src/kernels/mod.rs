@@ -127,9 +127,31 @@ pub trait NearestPoint: Primitive {
 pub trait MeetsBox: Primitive {
     /// Does the primitive in `words` meet `[lo, hi]`?
     fn meets_box<W: Words>(words: &W, lo: [f64; 3], hi: [f64; 3]) -> bool;
+    /// Does the primitive in `words`, placed in the world by `to_world` (`to_object` its
+    /// inverse: an instance's maps), meet the world box `[lo, hi]`? Triangles: the corners
+    /// mapped, then [`MeetsBox::meets_box`]'s test; spheres: the ellipsoid
+    /// ([`crate::kernels::sphere::box_overlap`]).
+    fn meets_box_mapped<W: Words>(
+        words: &W,
+        to_world: &Affine64,
+        to_object: &Affine64,
+        lo: [f64; 3],
+        hi: [f64; 3],
+    ) -> bool;
     /// Does `self` meet `[lo, hi]` ([`MeetsBox::meets_box`] on one primitive)?
     fn meets(&self, lo: [f64; 3], hi: [f64; 3]) -> bool {
         Self::meets_box(&One(self), lo, hi)
+    }
+    /// Does `self`, placed by `to_world` (`to_object` its inverse), meet the world box
+    /// `[lo, hi]` ([`MeetsBox::meets_box_mapped`] on one primitive)?
+    fn meets_mapped(
+        &self,
+        to_world: &Affine64,
+        to_object: &Affine64,
+        lo: [f64; 3],
+        hi: [f64; 3],
+    ) -> bool {
+        Self::meets_box_mapped(&One(self), to_world, to_object, lo, hi)
     }
 }
 
@@ -138,6 +160,16 @@ impl MeetsBox for VertexTriangle {
     fn meets_box<W: Words>(words: &W, lo: [f64; 3], hi: [f64; 3]) -> bool {
         crate::kernels::triangle::box_overlap::triangle_meets_box(corners(words, false), lo, hi)
     }
+    fn meets_box_mapped<W: Words>(
+        words: &W,
+        to_world: &Affine64,
+        _: &Affine64,
+        lo: [f64; 3],
+        hi: [f64; 3],
+    ) -> bool {
+        let c = corners(words, false).map(|x| to_world.apply(x));
+        crate::kernels::triangle::box_overlap::triangle_meets_box(c, lo, hi)
+    }
 }
 
 #[cfg(feature = "triangle")]
@@ -145,26 +177,34 @@ impl MeetsBox for PackedTriangle {
     fn meets_box<W: Words>(words: &W, lo: [f64; 3], hi: [f64; 3]) -> bool {
         crate::kernels::triangle::box_overlap::triangle_meets_box(corners(words, true), lo, hi)
     }
+    fn meets_box_mapped<W: Words>(
+        words: &W,
+        to_world: &Affine64,
+        _: &Affine64,
+        lo: [f64; 3],
+        hi: [f64; 3],
+    ) -> bool {
+        let c = corners(words, true).map(|x| to_world.apply(x));
+        crate::kernels::triangle::box_overlap::triangle_meets_box(c, lo, hi)
+    }
 }
 
 #[cfg(feature = "sphere")]
 impl MeetsBox for PackedSphere {
     fn meets_box<W: Words>(words: &W, lo: [f64; 3], hi: [f64; 3]) -> bool {
+        let c = [0, 1, 2].map(|k| words.word::<f32>(k));
+        crate::kernels::sphere::box_overlap::ball_meets_box(c, words.word::<f32>(3), lo, hi)
+    }
+    fn meets_box_mapped<W: Words>(
+        words: &W,
+        _: &Affine64,
+        to_object: &Affine64,
+        lo: [f64; 3],
+        hi: [f64; 3],
+    ) -> bool {
+        let c = [0, 1, 2].map(|k| words.word::<f32>(k));
         let r2 = words.word::<f32>(3);
-        let centre_finite = (0..3).all(|k| words.word::<f32>(k).is_finite());
-        if !(r2.is_normal() && r2 > 0.0 && centre_finite)
-            || (0..3).any(|k| lo[k].partial_cmp(&hi[k]).is_none_or(|o| o.is_gt()))
-        {
-            return false;
-        }
-        let d2: f64 = (0..3)
-            .map(|k| {
-                let c = f64::from(words.word::<f32>(k));
-                let d = (lo[k] - c).max(c - hi[k]).max(0.0);
-                d * d
-            })
-            .sum();
-        d2 <= f64::from(r2)
+        crate::kernels::sphere::box_overlap::mapped_ball_meets_box(c, r2, to_object, lo, hi)
     }
 }
 

@@ -4,13 +4,14 @@
 use super::enter::{enter, Entered, Geometries};
 use super::masks::{check_masks, Chunk, RayMasks};
 use super::points::scene_points;
+use super::region::scene_boxes;
 use crate::tree::all_hits::{in_chunks, AllHits, Collect};
 use crate::tree::batch::{closest_slice, occluded_slice};
 use crate::tree::epilog::UNPLACED;
 use crate::tree::epilog::{bound, Best, PacketBest};
 use crate::tree::leaf::{Leaf, Members};
 use crate::tree::packet::{packet_result, packet_walk, run_packet};
-use crate::tree::point::{Best as PointBest, KNearest, PointHit};
+use crate::tree::point::{Best as PointBest, KNearest, Place, PointHit};
 use crate::tree::single::trace_single;
 use crate::tree::single::{run_prepared, run_single, Prepared};
 use crate::tree::slab::BoxRay;
@@ -27,7 +28,7 @@ use octoray_core::hit::{AcceptAll, Hit, HitFilter};
 #[cfg(feature = "triangle")]
 use octoray_core::kernels::ExactCrossing;
 use octoray_core::kernels::Kernel;
-use octoray_core::kernels::NearestPoint;
+use octoray_core::kernels::{MeetsBox, NearestPoint};
 use octoray_core::lanes::{LaneMask, Lanes, MAX_LANES};
 use octoray_core::prim::{Ray, RayLanes};
 use octoray_core::query::ClosestHit;
@@ -689,6 +690,28 @@ pub trait Trace<T, S> {
     where
         T: NearestPoint,
         S: NearestPoint;
+    /// The primitives of the instances `mask` admits that meet the closed world box `[lo, hi]`,
+    /// as [`crate::tree::overlapping`] answers on one tree: where each lies ([`Place`]), in
+    /// ascending order, each once, the first `out.len()` after `after` (`None`: from the start);
+    /// `complete` is false when more follow (call again with `after = Some(out[stored − 1])`).
+    /// Each candidate is tested in world space: a triangle's corners carried there in f64, a
+    /// sphere as the ellipsoid its instance makes of it
+    /// ([`octoray_core::kernels::MeetsBox::meets_box_mapped`]); exact but for primitives that
+    /// touch or miss the box by a few units of 2⁻⁵⁰ of its coordinates. The box is carried into
+    /// each level's and instance's space conservatively (its corners mapped, then widened past
+    /// the roundings), so no primitive that meets it is skipped. A box with a NaN corner or
+    /// `lo > hi` on an axis meets nothing; an instance whose map is singular is left out.
+    fn overlapping(
+        &self,
+        lo: Vec3,
+        hi: Vec3,
+        mask: u32,
+        after: Option<Place>,
+        out: &mut [Place],
+    ) -> AllHits
+    where
+        T: MeetsBox,
+        S: MeetsBox;
     /// The `out.len()` primitives nearest to `point` within `radius` over every instance `mask`
     /// admits, as [`crate::tree::nearest_within`] reports them (in order of `dist`, then
     /// instance path, geometry and primitive), measured as [`Trace::closest_point`] measures.
@@ -896,6 +919,21 @@ impl<T: octoray_core::prim::Primitive, S: octoray_core::prim::Primitive> Trace<T
         filter: &mut F,
     ) -> bool {
         scene_single::<L, KT, KS, F, true>(self, ray, mask, filter, 0).0
+    }
+
+    fn overlapping(
+        &self,
+        lo: Vec3,
+        hi: Vec3,
+        mask: u32,
+        after: Option<Place>,
+        out: &mut [Place],
+    ) -> AllHits
+    where
+        T: MeetsBox,
+        S: MeetsBox,
+    {
+        scene_boxes(self, (lo, hi), mask, after, out)
     }
 
     fn closest_point(&self, point: Vec3, max_dist: f32, mask: u32) -> Option<PointHit>

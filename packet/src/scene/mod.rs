@@ -7,8 +7,10 @@ mod enter;
 mod instances;
 mod masks;
 mod points;
+mod region;
 mod tracer;
 
+pub use crate::tree::point::Place;
 pub use instances::Trace;
 pub use masks::RayMasks;
 #[cfg(feature = "alloc")]

@@ -2,6 +2,7 @@
 
 use super::instances::Trace;
 use super::masks::RayMasks;
+use crate::tree::point::Place;
 use crate::tree::{AllHits, PointHit};
 use core::marker::PhantomData;
 use octoray_core::glam::Vec3;
@@ -9,7 +10,7 @@ use octoray_core::hit::{Hit, HitFilter};
 #[cfg(feature = "triangle")]
 use octoray_core::kernels::ExactCrossing;
 use octoray_core::kernels::Kernel;
-use octoray_core::kernels::NearestPoint;
+use octoray_core::kernels::{MeetsBox, NearestPoint};
 use octoray_core::lanes::Lanes;
 use octoray_core::prim::{Ray, RayLanes};
 use octoray_core::query::ClosestHit;
@@ -150,6 +151,22 @@ impl<'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Tracer<'a, L, KT, KS> {
         ExactCrossing: Kernel<L, Prim = KT::Prim>,
     {
         self.scene.contains::<L, KS>(point, mask)
+    }
+
+    /// [`Trace::overlapping`].
+    pub fn overlapping(
+        &self,
+        lo: Vec3,
+        hi: Vec3,
+        mask: u32,
+        after: Option<Place>,
+        out: &mut [Place],
+    ) -> AllHits
+    where
+        KT::Prim: MeetsBox,
+        KS::Prim: MeetsBox,
+    {
+        self.scene.overlapping(lo, hi, mask, after, out)
     }
 
     /// [`Trace::closest_point`].

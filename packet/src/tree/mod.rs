@@ -59,7 +59,7 @@ pub(crate) mod leaf;
 pub(crate) mod packet;
 pub(crate) mod point;
 mod queries;
-mod region;
+pub(crate) mod region;
 pub(crate) mod single;
 pub(crate) mod slab;
 #[cfg(feature = "triangle")]

@@ -30,12 +30,15 @@ pub struct PointHit {
     pub inst: u32,
 }
 
-/// Where a primitive lies, in the order ties in distance are broken: instance path, geometry,
-/// primitive.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-pub(crate) struct Place {
+/// Where a primitive of a scene lies: its instance path, geometry and index in the geometry,
+/// ordered in that order (the order ties in distance are broken in, and box queries list in).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Place {
+    /// The instance path it is reached through.
     pub inst: u32,
+    /// Its geometry.
     pub geom: u32,
+    /// Its index in the geometry's primitives.
     pub prim: u32,
 }
 

@@ -2,7 +2,7 @@
 
 use super::all_hits::{insert_sorted, AllHits};
 use arrayvec::ArrayVec;
-use octoray_core::bvh::{Bvh8Ref, PAD, STACK};
+use octoray_core::bvh::{Bvh8Node, Bvh8Ref, PAD, STACK};
 use octoray_core::glam::Vec3;
 use octoray_core::kernels::MeetsBox;
 use octoray_core::prim::{BlockLane, BLOCK};
@@ -46,12 +46,14 @@ pub fn overlapping<P: MeetsBox>(
         return found;
     }
     let (lo64, hi64) = (lo.to_array().map(f64::from), hi.to_array().map(f64::from));
-    let mut stack = ArrayVec::<(u32, u32), STACK>::new();
-    stack.push((0, 0));
-    while let Some((child, count)) = stack.pop() {
-        if count > 0 {
-            let first = child as usize;
-            let end = (first + count as usize).min(bvh.ids().len());
+    box_walk(
+        bvh.nodes(),
+        0,
+        lo.to_array(),
+        hi.to_array(),
+        |first, count| {
+            let first = first as usize;
+            let end = first.saturating_add(count as usize).min(bvh.ids().len());
             for slot in first..end {
                 let id = bvh.ids()[slot];
                 if id == PAD || after.is_some_and(|a| id <= a) {
@@ -62,12 +64,34 @@ pub fn overlapping<P: MeetsBox>(
                     insert_sorted(out, &mut found, id, u32::cmp);
                 }
             }
+        },
+    );
+    found
+}
+
+/// The walk of a tree of `nodes` from node `start` (0: the root) for the box `[lo, hi]`: `leaf`
+/// gets the slots `(first, count)` of every leaf whose (conservative) box meets it.
+pub(crate) fn box_walk(
+    nodes: &[Bvh8Node],
+    start: u32,
+    lo: [f32; 3],
+    hi: [f32; 3],
+    mut leaf: impl FnMut(u32, u32),
+) {
+    if nodes.is_empty() {
+        return;
+    }
+    let mut stack = ArrayVec::<(u32, u32), STACK>::new();
+    stack.push((start, 0));
+    while let Some((child, count)) = stack.pop() {
+        if count > 0 {
+            leaf(child, count);
             continue;
         }
-        let Some(node) = bvh.nodes().get(child as usize) else {
+        let Some(node) = nodes.get(child as usize) else {
             continue;
         };
-        // The children whose (conservative) boxes meet the query box, on every axis.
+        // The children whose boxes meet the query box, on every axis.
         let meets = (0..3).fold(u32::MAX, |m, a| {
             let (clo, chi) = (f32x8::from(node.lo[a]), f32x8::from(node.hi[a]));
             let ok = clo.simd_le(f32x8::splat(hi[a])) & chi.simd_ge(f32x8::splat(lo[a]));
@@ -81,5 +105,4 @@ pub fn overlapping<P: MeetsBox>(
             let _ = stack.try_push((node.child[s], node.count[s]));
         }
     }
-    found
 }
