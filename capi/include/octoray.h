@@ -381,6 +381,20 @@ enum OctorayStatus octoray_contains1(const struct OctorayScene *scene,
                                      uint32_t mask,
                                      uint8_t *out);
 
+// The signed distance from `point` (three floats, world space) to the instances and
+// geometries whose masks share a bit with `mask`, into `*out`: the distance to the nearest
+// primitive (as `octoray_closest_point1` finds it), negative where `octoray_contains1` says
+// the point is inside; infinite when nothing is admitted, NaN for a non-finite point.
+// `InvalidArgument` for a standard-tier scene.
+//
+// # Safety
+// `scene` is a live scene not changed meanwhile; `point` is valid for reading three floats;
+// `out` is valid for writing one float.
+enum OctorayStatus octoray_signed_distance1(const struct OctorayScene *scene,
+                                            const float *point,
+                                            uint32_t mask,
+                                            float *out);
+
 // The closest hits of an 8-ray SoA packet (every lane traced; an empty range is a miss).
 //
 // # Safety

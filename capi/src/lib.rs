@@ -944,6 +944,26 @@ pub unsafe extern "C" fn octoray_contains1(
     unsafe { trace::contains("octoray_contains1", scene, point, mask, out) }
 }
 
+/// The signed distance from `point` (three floats, world space) to the instances and
+/// geometries whose masks share a bit with `mask`, into `*out`: the distance to the nearest
+/// primitive (as `octoray_closest_point1` finds it), negative where `octoray_contains1` says
+/// the point is inside; infinite when nothing is admitted, NaN for a non-finite point.
+/// `InvalidArgument` for a standard-tier scene.
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `point` is valid for reading three floats;
+/// `out` is valid for writing one float.
+#[no_mangle]
+pub unsafe extern "C" fn octoray_signed_distance1(
+    scene: *const OctorayScene,
+    point: *const f32,
+    mask: u32,
+    out: *mut f32,
+) -> OctorayStatus {
+    // SAFETY: the same contract.
+    unsafe { trace::signed_distance("octoray_signed_distance1", scene, point, mask, out) }
+}
+
 /// The closest hits of an 8-ray SoA packet (every lane traced; an empty range is a miss).
 ///
 /// # Safety

@@ -405,6 +405,33 @@ pub(crate) unsafe fn contains(
     })
 }
 
+/// `octoray_signed_distance1`: the distance from `point` to the nearest primitive, negative
+/// inside the scene's closed meshes, into `*out`; an `InvalidArgument` error for a
+/// standard-tier scene.
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `point` is valid for reading three floats;
+/// `out` for writing one float.
+pub(crate) unsafe fn signed_distance(
+    call: &str,
+    scene: *const OctorayScene,
+    point: *const f32,
+    mask: u32,
+    out: *mut f32,
+) -> OctorayStatus {
+    run(|| {
+        // SAFETY: the caller's contract.
+        let s = unsafe { scene_ref(scene, call) }?;
+        // SAFETY: the caller's contract.
+        let p = Vec3::from_slice(unsafe { slice(point, 3, call, "point") }?);
+        let out = null_check(out, call, "out")?;
+        let d = vertex_view(s, call)?.signed_distance::<f32x8, StableSphere>(p, mask);
+        // SAFETY: non-null and, by the contract, valid for writing.
+        unsafe { put(out, d) };
+        Ok(())
+    })
+}
+
 /// The scene as vertex triangles (the watertight and exact tiers' layout), or the error a
 /// crossing query on a standard-tier scene gets.
 fn vertex_view<'s>(

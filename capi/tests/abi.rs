@@ -526,6 +526,24 @@ fn crossings_and_containment_through_instances() {
                 assert_eq!((s, got), (OctorayStatus::Ok, want), "{p:?}, tier {tier}");
             }
         }
+        // Signed distances: negative inside the tetrahedron, the ball's surface counting for
+        // the distance (not the sign).
+        let mut d = 0.0f32;
+        let centre = [5.1f32, 0.1, 0.1];
+        // SAFETY: `centre` holds three floats; `d` is valid.
+        let s = unsafe { octoray_signed_distance1(scene, centre.as_ptr(), !0, &mut d) };
+        assert!(
+            s == OctorayStatus::Ok && (d + 0.1).abs() < 1e-6,
+            "{d}, tier {tier}"
+        );
+        let above = [0.0f32, 0.0, 7.5];
+        // SAFETY: as above.
+        let s = unsafe { octoray_signed_distance1(scene, above.as_ptr(), !0, &mut d) };
+        assert_eq!((s, d), (OctorayStatus::Ok, 1.5));
+        let nan = [f32::NAN, 0.0, 0.0];
+        // SAFETY: as above.
+        let s = unsafe { octoray_signed_distance1(scene, nan.as_ptr(), !0, &mut d) };
+        assert!(s == OctorayStatus::Ok && d.is_nan());
         // A mask that leaves the tetrahedron out: nothing contains its inside.
         // SAFETY: as above.
         let s = unsafe { octoray_contains1(scene, inside[0].as_ptr(), 2, &mut got) };

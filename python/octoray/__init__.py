@@ -412,6 +412,17 @@ class Scene:
         m = int(_mask(mask, 1)[0])
         return self._scene.contains(p, m, _threads(threads))
 
+    def signed_distance(self, points, mask=0xFFFFFFFF, threads=None) -> np.ndarray:
+        """The distance from each point to the nearest primitive of the instances whose mask
+        shares a bit with ``mask``, negative inside the closed meshes (float32 array; the sign
+        exact, as :meth:`contains`; NaN for a non-finite point). Raises ``ValueError`` for a
+        ``"standard"`` scene."""
+        if self._changed:
+            self.commit()
+        p = _rows(points, 3, "points")
+        m = int(_mask(mask, 1)[0])
+        return self._scene.signed_distance(p, m, _threads(threads))
+
     def overlapping(self, lo, hi, mask=0xFFFFFFFF) -> np.ndarray:
         """The primitives of the instances whose mask shares a bit with ``mask`` that meet the
         closed world box ``[lo, hi]``: (n, 3) int64 rows of instance, geometry and primitive,

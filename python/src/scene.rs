@@ -527,6 +527,26 @@ impl Scene {
         Ok(PyArray1::from_vec(py, out))
     }
 
+    /// The signed distance from each point to the instances under `mask`: to the nearest
+    /// primitive, negative inside the closed meshes (the sign exact), NaN for a non-finite
+    /// point. Raises `ValueError` for a standard-tier scene.
+    #[pyo3(signature = (points, mask, threads = None))]
+    fn signed_distance<'py>(
+        &self,
+        py: Python<'py>,
+        points: PyReadonlyArray2<'py, f32>,
+        mask: u32,
+        threads: Option<usize>,
+    ) -> PyResult<Bound<'py, PyArray1<f32>>> {
+        self.committed()?;
+        let scene = vertex(&self.layout)?;
+        let tracer = Tracer::<f32x8, Watertight, StableSphere>::new(scene.as_ref());
+        let out = arrays::per_point(py, &points, threads, f32::NAN, |p| {
+            tracer.signed_distance(p, mask)
+        })?;
+        Ok(PyArray1::from_vec(py, out))
+    }
+
     /// Every primitive of the instances under `mask` that meets the closed world box
     /// `[lo, hi]`, ascending, each once: `(n, 3)` rows of instance path, geometry and primitive.
     fn overlapping<'py>(

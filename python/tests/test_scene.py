@@ -205,6 +205,9 @@ def test_crossings_and_containment_through_instances():
     counts = [cube.crossings(rays_at(q[keep], d[keep] @ w[:3, :3].T), t_max=3.0) for q, w in zip(carried, to_object)]
     np.testing.assert_array_equal(n, np.sum(counts, axis=0))
     assert n.sum() > 500 and s.contains(p, mask=0).sum() == 0
+    sd = s.signed_distance(p)
+    np.testing.assert_array_equal(np.signbit(sd) & (sd != 0), want & (sd != 0))
+    np.testing.assert_array_equal(np.abs(sd), s.closest_points(p).distance)
     with pytest.raises(ValueError, match="crossing rule"):
         st = octoray.Scene("standard")
         st.add_instance(st.add_mesh(v, f))

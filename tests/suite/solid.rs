@@ -326,6 +326,9 @@ proptest! {
             let w = q.map(|x| x as f32 / 4.0);
             let p = vox.point(w);
             prop_assert_eq!(s.contains::<f32x8, StableSphere>(p, !0), odd(w), "{:?} {:?}", w, all);
+            let dist = s.closest_point(p, f32::INFINITY, !0).map_or(f32::INFINITY, |h| h.dist);
+            let sd = s.signed_distance::<f32x8, StableSphere>(p, !0);
+            prop_assert_eq!(sd.to_bits(), if odd(w) { -dist } else { dist }.to_bits());
             let dg = d.map(|x| x as f32 / 4.0);
             if dg == [0.0; 3] {
                 continue;

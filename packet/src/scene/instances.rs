@@ -672,6 +672,29 @@ pub trait Trace<T, S> {
     {
         self.crossings_ray::<L, KS>(&Ray::new(point, CAST), mask) % 2 == 1
     }
+    /// The signed distance from `point` to the admitted instances: the distance to the nearest
+    /// primitive ([`Trace::closest_point`], spheres included), negative where
+    /// [`Trace::contains`] says the point is inside (the sign exact for the point as each map
+    /// carries it); `+inf` for a scene with nothing admitted, NaN for a non-finite point.
+    #[cfg(feature = "triangle")]
+    fn signed_distance<L: Lanes, KS: Kernel<L, Prim = S>>(&self, point: Vec3, mask: u32) -> f32
+    where
+        ExactCrossing: Kernel<L, Prim = T>,
+        T: NearestPoint,
+        S: NearestPoint,
+    {
+        if !point.is_finite() {
+            return f32::NAN;
+        }
+        let d = self
+            .closest_point(point, f32::INFINITY, mask)
+            .map_or(f32::INFINITY, |h| h.dist);
+        if self.contains::<L, KS>(point, mask) {
+            -d
+        } else {
+            d
+        }
+    }
     /// The primitive nearest to `point` whose distance is at most `max_dist`, over every
     /// instance `mask` admits: as [`crate::tree::closest_point`] (the point on it, its
     /// barycentrics and distance; `None` when none is that near, for a non-finite point and for

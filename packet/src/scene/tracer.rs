@@ -153,6 +153,17 @@ impl<'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Tracer<'a, L, KT, KS> {
         self.scene.contains::<L, KS>(point, mask)
     }
 
+    /// [`Trace::signed_distance`].
+    #[cfg(feature = "triangle")]
+    pub fn signed_distance(&self, point: Vec3, mask: u32) -> f32
+    where
+        ExactCrossing: Kernel<L, Prim = KT::Prim>,
+        KT::Prim: NearestPoint,
+        KS::Prim: NearestPoint,
+    {
+        self.scene.signed_distance::<L, KS>(point, mask)
+    }
+
     /// [`Trace::overlapping`].
     pub fn overlapping(
         &self,
