@@ -395,6 +395,26 @@ enum OctorayStatus octoray_signed_distance1(const struct OctorayScene *scene,
                                             uint32_t mask,
                                             float *out);
 
+// The `capacity` primitives nearest to `point` (three floats, world space) within `radius`
+// among the instances and geometries whose masks share a bit with `mask`, each as
+// `octoray_closest_point1` reports it, into `near` in order of distance (ties by instance,
+// geometry, primitive), each once. `*stored` gets how many were written; `*complete` is 1
+// when the buffer was not filled (they are all there are), 0 when it was (more may lie within
+// `radius`, none nearer than the last). A non-finite point, a NaN or negative radius: none.
+//
+// # Safety
+// `scene` is a live scene not changed meanwhile; `point` is valid for reading three floats;
+// `near` is valid for writing `capacity` answers (may be null when `capacity` is 0); `stored`
+// and `complete` are valid for writing.
+enum OctorayStatus octoray_nearest_within1(const struct OctorayScene *scene,
+                                           const float *point,
+                                           float radius,
+                                           uint32_t mask,
+                                           struct OctorayPointHit *near,
+                                           size_t capacity,
+                                           size_t *stored,
+                                           uint8_t *complete);
+
 // The closest hits of an 8-ray SoA packet (every lane traced; an empty range is a miss).
 //
 // # Safety

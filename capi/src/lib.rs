@@ -964,6 +964,41 @@ pub unsafe extern "C" fn octoray_signed_distance1(
     unsafe { trace::signed_distance("octoray_signed_distance1", scene, point, mask, out) }
 }
 
+/// The `capacity` primitives nearest to `point` (three floats, world space) within `radius`
+/// among the instances and geometries whose masks share a bit with `mask`, each as
+/// `octoray_closest_point1` reports it, into `near` in order of distance (ties by instance,
+/// geometry, primitive), each once. `*stored` gets how many were written; `*complete` is 1
+/// when the buffer was not filled (they are all there are), 0 when it was (more may lie within
+/// `radius`, none nearer than the last). A non-finite point, a NaN or negative radius: none.
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `point` is valid for reading three floats;
+/// `near` is valid for writing `capacity` answers (may be null when `capacity` is 0); `stored`
+/// and `complete` are valid for writing.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)] // the C signature
+pub unsafe extern "C" fn octoray_nearest_within1(
+    scene: *const OctorayScene,
+    point: *const f32,
+    radius: f32,
+    mask: u32,
+    near: *mut OctorayPointHit,
+    capacity: usize,
+    stored: *mut usize,
+    complete: *mut u8,
+) -> OctorayStatus {
+    // SAFETY: the same contract.
+    unsafe {
+        trace::nearest_within(
+            "octoray_nearest_within1",
+            scene,
+            (point, radius, mask),
+            (near, capacity),
+            (stored, complete),
+        )
+    }
+}
+
 /// The closest hits of an 8-ray SoA packet (every lane traced; an empty range is a miss).
 ///
 /// # Safety

@@ -506,3 +506,42 @@ pub(crate) unsafe fn overlapping(
         Ok(())
     })
 }
+
+/// `octoray_nearest_within1`: the `capacity` primitives nearest to `point` within `radius`, in
+/// order of distance; returns how many were written and whether that is all of them.
+///
+/// # Safety
+/// `scene` is a live scene not changed meanwhile; `point` is valid for reading three floats;
+/// `near` for writing `capacity` answers; `stored` and `complete` for writing.
+pub(crate) unsafe fn nearest_within(
+    call: &str,
+    scene: *const OctorayScene,
+    (point, radius, mask): (*const f32, f32, u32),
+    (near, capacity): (*mut OctorayPointHit, usize),
+    (stored, complete): (*mut usize, *mut u8),
+) -> OctorayStatus {
+    run(|| {
+        // SAFETY: the caller's contract.
+        let s = unsafe { scene_ref(scene, call) }?;
+        // SAFETY: the caller's contract.
+        let p = Vec3::from_slice(unsafe { slice(point, 3, call, "point") }?);
+        // SAFETY: the caller's contract.
+        let out = unsafe { slice_mut(near, capacity, call, "near") }?;
+        let stored = null_check(stored, call, "stored")?;
+        let complete = null_check(complete, call, "complete")?;
+        let mut found = vec![octoray::tree::PointHit::default(); out.len()];
+        let f = match s.view(call)? {
+            View::Packed(sc) => sc.nearest_within(p, radius, mask, &mut found),
+            View::Vertex(sc) => sc.nearest_within(p, radius, mask, &mut found),
+        };
+        for (o, h) in out.iter_mut().zip(&found[..f.stored]) {
+            *o = OctorayPointHit::from(Some(*h));
+        }
+        // SAFETY: non-null and, by the contract, valid for writing.
+        unsafe {
+            put(stored, f.stored);
+            put(complete, u8::from(f.complete));
+        }
+        Ok(())
+    })
+}

@@ -651,3 +651,50 @@ fn boxes_find_the_primitives_they_meet_paged() {
     // SAFETY: `scene` is live.
     unsafe { octoray_scene_free(scene) };
 }
+
+#[test]
+fn the_k_nearest_come_in_order_of_distance() {
+    let scene = small(2);
+    let p = [5.2f32, 0.2, 0.3];
+    let near = |radius: f32, cap: usize| {
+        let mut out = vec![OctorayPointHit::from(None); cap];
+        let (mut stored, mut complete) = (0, 9);
+        // SAFETY: every pointer is valid for what the call reads or writes.
+        let s = unsafe {
+            octoray_nearest_within1(
+                scene,
+                p.as_ptr(),
+                radius,
+                !0,
+                out.as_mut_ptr(),
+                cap,
+                &mut stored,
+                &mut complete,
+            )
+        };
+        assert_eq!(s, OctorayStatus::Ok);
+        out.truncate(stored);
+        (out, complete)
+    };
+    // Four faces of the tetrahedron and the ball: all five in a buffer of 8, nearest first.
+    let (all, complete) = near(f32::INFINITY, 8);
+    assert_eq!((all.len(), complete), (5, 1));
+    assert!(all.windows(2).all(|w| w[0].dist <= w[1].dist), "{all:?}");
+    // The nearest is the slanted face (0.3/√3 away), then x = 5 and y = 0 (0.2), then z = 0.
+    let mut closest = OctorayPointHit::from(None);
+    // SAFETY: as above.
+    unsafe { octoray_closest_point1(scene, p.as_ptr(), f32::INFINITY, !0, &mut closest) };
+    assert_eq!(all[0], closest);
+    let (two, complete) = near(f32::INFINITY, 2);
+    assert_eq!((two.as_slice(), complete), (&all[..2], 0));
+    // Within 0.25: the slanted face and the two 0.2 away.
+    let (within, complete) = near(0.25, 8);
+    assert_eq!((within.len(), complete), (3, 1));
+    assert!(
+        (within[0].dist - 0.3 / 3f32.sqrt()).abs() < 1e-6,
+        "{within:?}"
+    );
+    assert_eq!(near(-1.0, 8), (vec![], 1));
+    // SAFETY: `scene` is live.
+    unsafe { octoray_scene_free(scene) };
+}
