@@ -237,7 +237,7 @@ fn brute_boxes(
     }
 }
 
-/// The scene's box query, paged three at a time, against brute force; returns how many it found.
+/// The scene's box query, paged, against brute force; returns how many it found.
 fn check_boxes(
     w: &World<VertexTriangle>,
     r: octoray::scene::SceneRef<'_, VertexTriangle, PackedSphere>,
@@ -253,7 +253,11 @@ fn check_boxes(
     }
     want.sort();
     want.dedup();
-    let (mut got, mut page, mut after) = (vec![], [octoray::scene::Place::default(); 3], None);
+    // Pages of three where the answer is short, larger ones where it is long (each page walks
+    // the scene again).
+    let size = if want.len() <= 30 { 3 } else { 512 };
+    let mut page = vec![octoray::scene::Place::default(); size];
+    let (mut got, mut after) = (vec![], None);
     loop {
         let f = r.overlapping(lo, hi, mask, after, &mut page);
         got.extend(page[..f.stored].iter().map(|p| (p.inst, p.geom, p.prim)));
