@@ -78,6 +78,17 @@ type NearestPoints<'py> = (
     F32s<'py>,
 );
 
+/// `$query::<KT>(scene, args…)` with the triangle kernel of `$scene`'s layout and tier.
+macro_rules! by_tier {
+    ($scene:expr, $query:ident($($arg:expr),*)) => {
+        match (&$scene.layout, $scene.tier) {
+            (Layout::Packed(s), _) => $query::<MollerTrumbore>(s, $($arg),*),
+            (Layout::Vertex(s), Tier::Exact) => $query::<Exact>(s, $($arg),*),
+            (Layout::Vertex(s), _) => $query::<Watertight>(s, $($arg),*),
+        }
+    };
+}
+
 /// `query(tracer, rays, masks, out)` over chunks of `rays` (ray `i` under `masks[i]`) through
 /// `scene` with triangle tier `KT`, spread over `pool`'s threads; `out` starts as `init`.
 fn traced<KT: Kernel<f32x8>, O: Clone + Send>(
@@ -398,11 +409,7 @@ impl Scene {
         self.committed()?;
         let (rays, masks, pool) = Self::query(&rays, &t_min, &t_max, &mask, threads)?;
         let pool = pool.as_ref();
-        let hits = py.detach(|| match (&self.layout, self.tier) {
-            (Layout::Packed(s), _) => first_hits::<MollerTrumbore>(s, &rays, &masks, pool),
-            (Layout::Vertex(s), Tier::Exact) => first_hits::<Exact>(s, &rays, &masks, pool),
-            (Layout::Vertex(s), _) => first_hits::<Watertight>(s, &rays, &masks, pool),
-        });
+        let hits = py.detach(|| by_tier!(self, first_hits(&rays, &masks, pool)));
         let n = rays.len();
         let mut t = vec![f32::INFINITY; n];
         let (mut prim, mut geom, mut inst) = (vec![-1i64; n], vec![-1i64; n], vec![-1i64; n]);
@@ -442,11 +449,7 @@ impl Scene {
         self.committed()?;
         let (rays, masks, pool) = Self::query(&rays, &t_min, &t_max, &mask, threads)?;
         let pool = pool.as_ref();
-        let out = py.detach(|| match (&self.layout, self.tier) {
-            (Layout::Packed(s), _) => occlusion::<MollerTrumbore>(s, &rays, &masks, pool),
-            (Layout::Vertex(s), Tier::Exact) => occlusion::<Exact>(s, &rays, &masks, pool),
-            (Layout::Vertex(s), _) => occlusion::<Watertight>(s, &rays, &masks, pool),
-        });
+        let out = py.detach(|| by_tier!(self, occlusion(&rays, &masks, pool)));
         Ok(PyArray1::from_vec(py, out))
     }
 
@@ -465,11 +468,7 @@ impl Scene {
         self.committed()?;
         let (rays, masks, pool) = Self::query(&rays, &t_min, &t_max, &mask, threads)?;
         let pool = pool.as_ref();
-        let hits = py.detach(|| match (&self.layout, self.tier) {
-            (Layout::Packed(s), _) => every_hit::<MollerTrumbore>(s, &rays, &masks, pool),
-            (Layout::Vertex(s), Tier::Exact) => every_hit::<Exact>(s, &rays, &masks, pool),
-            (Layout::Vertex(s), _) => every_hit::<Watertight>(s, &rays, &masks, pool),
-        });
+        let hits = py.detach(|| by_tier!(self, every_hit(&rays, &masks, pool)));
         let ids = |f: fn(&Hit) -> u32| hits.iter().map(|(_, h)| i64::from(f(h))).collect();
         let floats = |f: fn(&Hit) -> f32| hits.iter().map(|(_, h)| f(h)).collect();
         Ok((

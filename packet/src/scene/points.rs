@@ -97,13 +97,8 @@ impl<K: Sink> Sink for Placed<'_, '_, K> {
     }
 
     fn offer(&mut self, n: Nearest, at: Place) {
-        let (geom, prim) = if self.members.members.is_empty() {
-            (self.geom, at.prim)
-        } else {
-            match self.members.place(at.prim) {
-                Some(gp) => gp,
-                None => return,
-            }
+        let Some((geom, prim)) = self.members.locate(self.geom, at.prim) else {
+            return;
         };
         let inst = self.path;
         self.inner.offer(n, Place { inst, geom, prim });

@@ -155,13 +155,8 @@ impl<T: MeetsBox, S: MeetsBox> Boxes<'_, '_, '_, T, S> {
                 if id == PAD {
                     continue;
                 }
-                let (geom, prim) = if members.members.is_empty() {
-                    (geom, id)
-                } else {
-                    match members.place(id) {
-                        Some(gp) => gp,
-                        None => continue,
-                    }
+                let Some((geom, prim)) = members.locate(geom, id) else {
+                    continue;
                 };
                 let place = Place {
                     inst: path,

@@ -89,6 +89,16 @@ impl Members<'_> {
         let g = self.geoms.get(member.geom as usize)?;
         (g.mask & self.mask != 0).then(|| (member.geom, id.wrapping_sub(member.first_prim)))
     }
+
+    /// [`Members::place`], or `(geom, id)` in a tree of the one geometry `geom` (no members).
+    #[inline]
+    pub fn locate(&self, geom: u32, id: u32) -> Option<(u32, u32)> {
+        if self.members.is_empty() {
+            Some((geom, id))
+        } else {
+            self.place(id)
+        }
+    }
 }
 
 impl<L: Lanes, K: Kernel<L>, const MANY: bool> Prims<'_, L, K, MANY> {
