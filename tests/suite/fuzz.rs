@@ -1097,7 +1097,9 @@ fn run_scene(rng: &mut Rng) {
         let got = r.closest_ray_with::<f32x8, Watertight, StableSphere, _>(
             ray,
             mask,
-            &mut |c: &octoray::hit::Candidate| (c.prim + c.inst).is_multiple_of(2),
+            &mut crate::dyn_filter(&mut |c: &octoray::hit::Candidate| {
+                (c.prim + c.inst).is_multiple_of(2)
+            }),
         );
         assert_eq!(got, fw, "scene filtered, {ray:?}");
     }

@@ -44,3 +44,15 @@ mod untrusted_scenes;
 mod watertight;
 #[cfg(not(octoray_isa_slice))]
 mod winding;
+
+use octoray::hit::Candidate;
+
+/// The suite's one filter type. Each closure is a type of its own, and a walk called with it is
+/// compiled again (a scene walk is a second of LLVM time): the tests pass their filters through
+/// this, so the walks are compiled once per width and kernel.
+type DynFilter<'a> = &'a mut dyn FnMut(&Candidate) -> bool;
+
+/// `f` as the suite's one filter type.
+fn dyn_filter(f: &mut impl FnMut(&Candidate) -> bool) -> DynFilter<'_> {
+    f
+}

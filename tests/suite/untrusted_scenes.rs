@@ -4,6 +4,7 @@
 #![cfg(all(feature = "triangle", feature = "sphere", feature = "alloc"))]
 
 use super::scene::Stored;
+use crate::dyn_filter;
 use octoray::bvh::BvhError;
 use octoray::f32x8;
 use octoray::glam::Vec3;
@@ -38,11 +39,14 @@ fn down() -> Ray {
 /// reached a primitive.
 fn candidates(s: &R<'_>, ray: &Ray) -> u64 {
     let mut n = 0u64;
-    let hit =
-        s.closest_ray_with::<f32x8, Watertight, StableSphere, _>(ray, !0, &mut |_: &Candidate| {
+    let hit = s.closest_ray_with::<f32x8, Watertight, StableSphere, _>(
+        ray,
+        !0,
+        &mut dyn_filter(&mut |_: &Candidate| {
             n += 1;
             false
-        });
+        }),
+    );
     assert_eq!(hit, None);
     n
 }
@@ -217,7 +221,7 @@ fn a_group_placed_nowhere_is_not_traced() {
             let filtered = r.closest_ray_with::<f32x8, Watertight, StableSphere, _>(
                 &ray,
                 !0,
-                &mut |_: &Candidate| true,
+                &mut dyn_filter(&mut |_: &Candidate| true),
             );
             assert_eq!(filtered, hit);
             assert_eq!(
