@@ -9,11 +9,8 @@
 # cannot be installed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-have() { command -v "$1" >/dev/null 2>&1; }
-if { ! have gcc || ! have g++; } && have apt-get; then
-  (apt-get install -y gcc g++ >/dev/null 2>&1 \
-    || { apt-get update >/dev/null 2>&1 && apt-get install -y gcc g++ >/dev/null 2>&1; }) || true
-fi
+. .ci/tools.sh
+c_tools
 if ! have gcc || ! have g++; then
   echo "skipped: the C and C++ examples (gcc/g++ could not be installed here)"
   exit 0

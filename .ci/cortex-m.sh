@@ -9,11 +9,8 @@
 # Installs what it needs; skips with a message only when QEMU or the target cannot be installed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-have() { command -v "$1" >/dev/null 2>&1; }
-if ! have qemu-system-arm && have apt-get; then
-  (apt-get install -y qemu-system-arm >/dev/null 2>&1 \
-    || { apt-get update >/dev/null 2>&1 && apt-get install -y qemu-system-arm >/dev/null 2>&1; }) || true
-fi
+. .ci/tools.sh
+cortex_tools
 if ! have qemu-system-arm || ! rustup target add thumbv7em-none-eabihf >/dev/null 2>&1; then
   echo "skipped: Cortex-M run (qemu-system-arm or the thumbv7em-none-eabihf target could not be installed here)"
   exit 0

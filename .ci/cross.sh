@@ -8,12 +8,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-have() { command -v "$1" >/dev/null 2>&1; }
-apt_install() {
-  if have apt-get; then
-    (apt-get install -y "$@" >/dev/null 2>&1 || { apt-get update >/dev/null 2>&1 && apt-get install -y "$@" >/dev/null 2>&1; }) || true
-  fi
-}
+. .ci/tools.sh
+cross_tools
 
 # The slice, as test-name filters on the one integration-test binary (tests/suite): whole
 # modules, and BVH == brute force without the heaviest proptests (emulation is slow) and, on
@@ -33,19 +29,18 @@ export OCTORAY_CASES="${OCTORAY_CASES:-0.25}"
 export CARGO_TARGET_WASM32_WASIP1_RUNNER="node --no-warnings --single-threaded $PWD/.ci/wasi-run.mjs"
 
 # slice TARGET NAME RUSTFLAGS: the slice for TARGET, built in its own target dir with only the
-# slice's modules of tests/suite (RUSTFLAGS applies to the target's artifacts only, and
-# replaces the config's flags for it).
+# slice's modules of tests/suite, and the box test, a unit test of octoray-packet (the slab test
+# is internal), in one cargo run so the two builds share the cores (RUSTFLAGS applies to the
+# target's artifacts only, and replaces the config's flags for it). The filters select by name:
+# no suite test is under `tree::box_test::`, no box test under the slice's modules.
 slice() {
   CARGO_TARGET_DIR=target/cross RUSTFLAGS="$3 --cfg octoray_isa_slice" \
-    cargo test --target "$1" --test suite -- "${SLICE[@]}"
-  # The box test is a unit test of octoray-packet (the slab test is internal).
-  CARGO_TARGET_DIR=target/cross RUSTFLAGS="$3 --cfg octoray_isa_slice" \
-    cargo test --target "$1" -p octoray-packet --lib -- tree::box_test::
+    cargo test --target "$1" -p octoray -p octoray-packet --test suite --lib -- \
+    "${SLICE[@]}" tree::box_test::
   echo "ok: $2 slice passed (digest equal to x86-64's)"
 }
 
 echo "== aarch64 (NEON) under QEMU user mode"
-have qemu-aarch64 && have aarch64-linux-gnu-gcc || apt_install qemu-user gcc-aarch64-linux-gnu libc6-dev-arm64-cross
 if have qemu-aarch64 && have aarch64-linux-gnu-gcc && rustup target add aarch64-unknown-linux-gnu >/dev/null 2>&1; then
   slice aarch64-unknown-linux-gnu aarch64 ""
 else
@@ -53,7 +48,6 @@ else
 fi
 
 echo "== wasm32-wasip1 (simd128) under Node's WASI"
-have node || apt_install nodejs
 if have node && node -e "require('node:wasi')" >/dev/null 2>&1 && rustup target add wasm32-wasip1 >/dev/null 2>&1; then
   slice wasm32-wasip1 wasm32-wasip1 "-C target-feature=+simd128"
 else

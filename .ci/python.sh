@@ -5,9 +5,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
 venv=$root/target/python-venv
-python3 -m venv "$venv"
-"$venv/bin/pip" install --quiet --upgrade pip
-"$venv/bin/pip" install --quiet "maturin>=1.7,<2" numpy pytest trimesh rtree
+. .ci/tools.sh
+python_env "$venv"
 # Its crate is outside the main workspace: formatted and linted here.
 (cd python && cargo fmt --check && CARGO_TARGET_DIR="$root/target/python" \
   cargo clippy --quiet --all-targets -- -D warnings)
