@@ -24,6 +24,8 @@ mod golden;
 mod hostile;
 #[cfg(not(octoray_isa_slice))]
 mod ingest;
+#[cfg(not(octoray_isa_slice))]
+mod packet_api;
 mod packet_bits;
 #[cfg(not(octoray_isa_slice))]
 mod packet_vs_textbook;

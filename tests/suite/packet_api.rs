@@ -1,7 +1,6 @@
-//! The packet crate's own tests: every tier reachable at every width through its batch calls,
+//! The packet crate's batch calls, by their own paths: every tier reachable at every width,
 //! agreeing with the scalar twin; the scene calls agreeing with the slice calls; and the API
-//! traps (lane bounds, length mismatches).
-#![cfg(all(feature = "triangle", feature = "sphere", feature = "alloc"))]
+//! traps (lane bounds, length mismatches). In the suite's binary, whose walks they share.
 
 use octoray_core::bvh::Bvh8;
 use octoray_core::glam::Vec3;
