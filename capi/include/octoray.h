@@ -400,7 +400,8 @@ enum OctorayStatus octoray_signed_distance1(const struct OctorayScene *scene,
 // `octoray_closest_point1` reports it, into `near` in order of distance (ties by instance,
 // geometry, primitive), each once. `*stored` gets how many were written; `*complete` is 1
 // when the buffer was not filled (they are all there are), 0 when it was (more may lie within
-// `radius`, none nearer than the last). A non-finite point, a NaN or negative radius: none.
+// `radius`, none nearer than the last); with `capacity` 0, 1 when none lies within `radius`.
+// A non-finite point, a NaN or negative radius: none.
 //
 // # Safety
 // `scene` is a live scene not changed meanwhile; `point` is valid for reading three floats;

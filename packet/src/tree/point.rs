@@ -161,6 +161,12 @@ impl Sink for KNearest<'_> {
         if !n.dist2.is_finite() || n.dist2 > self.r2 {
             return;
         }
+        if self.out.is_empty() {
+            // No room: one primitive within the radius is an answer left out; stop looking.
+            self.found.complete = false;
+            self.cull = -1.0;
+            return;
+        }
         let place = |h: &PointHit| (h.inst, h.geom, h.prim);
         let order =
             |a: &PointHit, b: &PointHit| a.dist.total_cmp(&b.dist).then(place(a).cmp(&place(b)));
@@ -216,8 +222,9 @@ pub fn closest_point<P: NearestPoint>(
 /// index; each primitive once. `stored` says how many were written; `complete` is true when the
 /// buffer was not filled (they are then all those within `radius`) and false when it was (more
 /// may lie within `radius`, none nearer than the last: once the buffer is full the walk looks
-/// only as far as its last hit, which is what makes the k nearest cheap). Nothing for a
-/// non-finite point or a NaN or negative radius.
+/// only as far as its last hit, which is what makes the k nearest cheap); an empty buffer is
+/// complete when no primitive lies within `radius`. Nothing for a non-finite point or a NaN or
+/// negative radius.
 ///
 /// ```
 /// # #[cfg(all(feature = "triangle", feature = "alloc"))] {
@@ -257,7 +264,7 @@ impl<'o> KNearest<'o> {
         Self {
             found: AllHits {
                 stored: 0,
-                complete: !out.is_empty(),
+                complete: true,
             },
             out,
             r2,
