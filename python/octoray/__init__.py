@@ -30,6 +30,7 @@ __all__ = [
     "AllHits",
     "SceneAllHits",
     "ClosestPoints",
+    "NearestFaces",
     "SceneClosestPoints",
     "TIERS",
     "__version__",
@@ -117,6 +118,19 @@ class ClosestPoints:
     #: Its barycentric weights on the face (float32).
     u: np.ndarray
     v: np.ndarray
+
+
+@dataclass(frozen=True)
+class NearestFaces:
+    """The ``k`` faces of the mesh nearest to each query point, nearest first."""
+
+    #: Their distances (n, k) float32; ``inf`` past the faces found.
+    distance: np.ndarray
+    #: Their faces (n, k) int64; ``-1`` past the faces found.
+    prim: np.ndarray
+    #: Whether the row holds every face within the radius (bool); false when ``k`` faces were
+    #: found and more may lie within it (none nearer than the last).
+    complete: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -277,6 +291,13 @@ class Mesh:
         p = _rows(points, 3, "points")
         d = float(max_distance)
         return ClosestPoints(*self._mesh.closest_points(p, d, _threads(threads)))
+
+    def nearest_within(self, points, k, radius=np.inf, threads=None) -> NearestFaces:
+        """The ``k`` faces nearest to each point within ``radius`` (inclusive), nearest first
+        (equal distances by face index), each face once; ``radius=inf`` gives the k nearest.
+        Raises ``ValueError`` for a ``k`` above the face count or a NaN or negative radius."""
+        p = _rows(points, 3, "points")
+        return NearestFaces(*self._mesh.nearest_within(p, int(k), float(radius), _threads(threads)))
 
 
 def _corner(x, name):

@@ -64,6 +64,14 @@ type EveryHit<'py> = (I64s<'py>, I64s<'py>, F32s<'py>, F32s<'py>, F32s<'py>);
 /// none), `u`, `v`.
 type NearestPoints<'py> = (Rows3<'py>, F32s<'py>, I64s<'py>, F32s<'py>, F32s<'py>);
 
+/// The `k` nearest faces of each point: `(n, k)` distances (inf past those found) and faces
+/// (−1 past them), and whether each row holds every face within the radius.
+type NearestFaces<'py> = (
+    Bound<'py, numpy::PyArray2<f32>>,
+    Bound<'py, numpy::PyArray2<i64>>,
+    Bools<'py>,
+);
+
 impl Mesh {
     /// The closed mesh as a [`Solid`], or the `ValueError` saying why it is not one.
     fn solid(&self) -> PyResult<Solid<'_>> {
@@ -393,6 +401,52 @@ impl Mesh {
             PyArray1::from_vec(py, prim),
             PyArray1::from_vec(py, u),
             PyArray1::from_vec(py, v),
+        ))
+    }
+
+    /// The `k` faces nearest to each point within `radius` (inclusive), nearest first (equal
+    /// distances by face index), each face once ([`NearestFaces`]). Raises `ValueError` for a
+    /// `k` above the face count or a NaN or negative radius.
+    #[pyo3(signature = (points, k, radius, threads = None))]
+    fn nearest_within<'py>(
+        &self,
+        py: Python<'py>,
+        points: PyReadonlyArray2<'py, f32>,
+        k: usize,
+        radius: f32,
+        threads: Option<usize>,
+    ) -> PyResult<NearestFaces<'py>> {
+        if k > self.tris().len() {
+            return Err(PyValueError::new_err(format!(
+                "k must be at most the face count {}, not {k}",
+                self.tris().len()
+            )));
+        }
+        if radius.is_nan() || radius < 0.0 {
+            return Err(PyValueError::new_err(format!(
+                "radius must be zero or positive, not {radius}"
+            )));
+        }
+        let bvh = self.bvh();
+        let found = arrays::per_point(py, &points, threads, (Vec::new(), false), |p| {
+            let mut out = vec![tree::PointHit::default(); k];
+            let got = tree::nearest_within(bvh, p, radius, &mut out);
+            out.truncate(got.stored);
+            (out, got.complete)
+        })?;
+        let n = found.len();
+        let (mut dist, mut prim) = (vec![f32::INFINITY; n * k], vec![-1i64; n * k]);
+        let mut complete = vec![false; n];
+        for (i, (hits, whole)) in found.iter().enumerate() {
+            for (j, h) in hits.iter().enumerate() {
+                (dist[i * k + j], prim[i * k + j]) = (h.dist, i64::from(h.prim));
+            }
+            complete[i] = *whole;
+        }
+        Ok((
+            PyArray1::from_vec(py, dist).reshape([n, k])?,
+            PyArray1::from_vec(py, prim).reshape([n, k])?,
+            PyArray1::from_vec(py, complete),
         ))
     }
 }

@@ -233,3 +233,33 @@ def test_generalized_winding_number_on_closed_and_open_meshes():
     cap = 2 * np.arctan2(a @ np.cross(b, c), la * lb * lc + (a @ b) * lc + (a @ c) * lb + (b @ c) * la)
     w = opened.generalized_winding_number([q], tolerance=0)[0]
     assert abs(w - (1 - cap / (4 * np.pi))) < 1e-6
+
+
+def test_nearest_within_equals_brute_force():
+    """The k nearest faces within a radius: each face's distance is what the one-face mesh's
+    closest point reports, bit for bit; the rows are the brute-force order (distance, then
+    face); `complete` says whether the row holds every face within the radius."""
+    rng = np.random.default_rng(11)
+    v = rng.uniform(-1, 1, (90, 3)).astype(np.float32)
+    f = rng.integers(0, len(v), (40, 3))
+    # Faces 30..39 repeat faces 0..9: equal distances, ordered by face index.
+    f[30:] = f[:10]
+    pts = rng.uniform(-1.5, 1.5, (64, 3)).astype(np.float32)
+    m = octoray.Mesh(v, f)
+    one = np.stack([octoray.Mesh(v, f[j : j + 1]).closest_points(pts).distance for j in range(len(f))], axis=1)
+    for k, radius in [(1, np.inf), (5, 0.6), (12, 0.3), (40, np.inf), (0, 1.0)]:
+        got = m.nearest_within(pts, k, radius)
+        assert got.distance.shape == got.prim.shape == (len(pts), k)
+        for i in range(len(pts)):
+            order = sorted((d, j) for j, d in enumerate(one[i].tolist()) if d <= radius)
+            want = order[:k]
+            assert got.prim[i, : len(want)].tolist() == [j for _, j in want]
+            np.testing.assert_array_equal(got.distance[i, : len(want)], np.array([d for d, _ in want], dtype=np.float32))
+            assert (got.prim[i, len(want) :] == -1).all() and np.isinf(got.distance[i, len(want) :]).all()
+            assert got.complete[i] == (len(order) < k or not order)
+    with pytest.raises(ValueError, match="k must be"):
+        m.nearest_within(pts, 41)
+    with pytest.raises(ValueError, match="radius"):
+        m.nearest_within(pts, 3, radius=-1.0)
+    with pytest.raises(ValueError, match="radius"):
+        m.nearest_within(pts, 3, radius=np.nan)
