@@ -217,3 +217,65 @@ fn bad_lanes_do_not_poison_neighbours_8() {
 fn bad_lanes_do_not_poison_neighbours_16() {
     no_poisoning::<f32x16>();
 }
+
+/// Every query that writes into a caller's buffer answers an empty one (one tree and a scene):
+/// nothing stored, and complete exactly when there was nothing to store, never a panic.
+#[test]
+fn empty_output_buffers_are_answers_not_panics() {
+    use octoray::bvh::Bvh8;
+    use octoray::kernels::Watertight;
+    use octoray::scene::{Scene, Trace, Transform};
+    use octoray::tree::{all_hits, all_hits_ray, nearest_within, overlapping, AllHits};
+    // Unit triangles in the planes x = 0, 1, …, 9.
+    let tris: Vec<VertexTriangle> = (0..10)
+        .map(|i| {
+            let x = i as f32;
+            VertexTriangle::new(
+                Vec3::new(x, 0.0, 0.0),
+                Vec3::new(x, 1.0, 0.0),
+                Vec3::new(x, 0.0, 1.0),
+            )
+        })
+        .collect();
+    let tree = Bvh8::build(&tris);
+    let b = tree.as_ref();
+    let mut scene = Scene::<VertexTriangle, PackedSphere>::new();
+    let g = scene.add_triangles(&tris).expect("build");
+    scene.add_instance(&[g], Transform::IDENTITY, 1);
+    scene.commit().expect("commit");
+    let s = scene.as_ref();
+    let through = Ray::new(Vec3::new(-1.0, 0.2, 0.2), Vec3::X);
+    let past = Ray::new(Vec3::new(-1.0, 5.0, 5.0), Vec3::X);
+    let none = |f: AllHits| (f.stored, f.complete);
+    for (ray, meets) in [(through, true), (past, false)] {
+        let want = (0, !meets);
+        assert_eq!(
+            none(all_hits_ray::<f32x8, Watertight>(b, &ray, None, &mut [])),
+            want
+        );
+        let mut found = [AllHits {
+            stored: 9,
+            complete: false,
+        }; 2];
+        all_hits::<f32x8, Watertight>(b, &[ray, ray], &mut [], &mut found);
+        assert_eq!(found.map(none), [want; 2]);
+        let f = s.all_hits_ray::<f32x8, Watertight, StableSphere>(&ray, !0, None, &mut []);
+        assert_eq!(none(f), want);
+        let mut found = [AllHits {
+            stored: 9,
+            complete: false,
+        }; 2];
+        s.all_hits::<f32x8, Watertight, StableSphere>(&[ray, ray], !0, &mut [], &mut found);
+        assert_eq!(found.map(none), [want; 2]);
+    }
+    for (p, radius, near) in [
+        (Vec3::new(4.5, 0.2, 0.2), 1.0, true),
+        (Vec3::splat(50.0), 1.0, false),
+    ] {
+        assert_eq!(none(nearest_within(b, p, radius, &mut [])), (0, !near));
+        assert_eq!(none(s.nearest_within(p, radius, !0, &mut [])), (0, !near));
+        let (lo, hi) = (p - Vec3::splat(0.6), p + Vec3::splat(0.6));
+        assert_eq!(none(overlapping(b, lo, hi, None, &mut [])), (0, !near));
+        assert_eq!(none(s.overlapping(lo, hi, !0, None, &mut [])), (0, !near));
+    }
+}
