@@ -31,8 +31,12 @@ c_tools() {
   { have gcc && have g++; } || apt_install gcc g++
 }
 
-# .ci/python.sh: a virtualenv at $1 with the build tool and the tests' packages.
+# .ci/python.sh: a virtualenv at $1 with the build tool and the tests' packages (kept when it
+# has them: the prefetch made it).
 python_env() {
+  if [ -x "$1/bin/maturin" ] && "$1/bin/python" -c "import numpy, pytest, trimesh, rtree" 2>/dev/null; then
+    return 0
+  fi
   python3 -m venv "$1" \
     && "$1/bin/pip" install --quiet --upgrade pip \
     && "$1/bin/pip" install --quiet "maturin>=1.7,<2" numpy pytest trimesh rtree
