@@ -155,39 +155,33 @@ pub trait MeetsBox: Primitive {
     }
 }
 
+/// [`MeetsBox`] for a triangle layout: its corners (`packed`: stored as `v0`, `e1`, `e2`),
+/// mapped to the world by `to_world` when the triangle is placed.
 #[cfg(feature = "triangle")]
-impl MeetsBox for VertexTriangle {
-    fn meets_box<W: Words>(words: &W, lo: [f64; 3], hi: [f64; 3]) -> bool {
-        crate::kernels::triangle::box_overlap::triangle_meets_box(corners(words, false), lo, hi)
-    }
-    fn meets_box_mapped<W: Words>(
-        words: &W,
-        to_world: &Affine64,
-        _: &Affine64,
-        lo: [f64; 3],
-        hi: [f64; 3],
-    ) -> bool {
-        let c = corners(words, false).map(|x| to_world.apply(x));
-        crate::kernels::triangle::box_overlap::triangle_meets_box(c, lo, hi)
-    }
+macro_rules! triangle_meets_box {
+    ($layout:ty, $packed:expr) => {
+        impl MeetsBox for $layout {
+            fn meets_box<W: Words>(words: &W, lo: [f64; 3], hi: [f64; 3]) -> bool {
+                let c = corners(words, $packed);
+                crate::kernels::triangle::box_overlap::triangle_meets_box(c, lo, hi)
+            }
+            fn meets_box_mapped<W: Words>(
+                words: &W,
+                to_world: &Affine64,
+                _: &Affine64,
+                lo: [f64; 3],
+                hi: [f64; 3],
+            ) -> bool {
+                let c = corners(words, $packed).map(|x| to_world.apply(x));
+                crate::kernels::triangle::box_overlap::triangle_meets_box(c, lo, hi)
+            }
+        }
+    };
 }
-
 #[cfg(feature = "triangle")]
-impl MeetsBox for PackedTriangle {
-    fn meets_box<W: Words>(words: &W, lo: [f64; 3], hi: [f64; 3]) -> bool {
-        crate::kernels::triangle::box_overlap::triangle_meets_box(corners(words, true), lo, hi)
-    }
-    fn meets_box_mapped<W: Words>(
-        words: &W,
-        to_world: &Affine64,
-        _: &Affine64,
-        lo: [f64; 3],
-        hi: [f64; 3],
-    ) -> bool {
-        let c = corners(words, true).map(|x| to_world.apply(x));
-        crate::kernels::triangle::box_overlap::triangle_meets_box(c, lo, hi)
-    }
-}
+triangle_meets_box!(VertexTriangle, false);
+#[cfg(feature = "triangle")]
+triangle_meets_box!(PackedTriangle, true);
 
 #[cfg(feature = "sphere")]
 impl MeetsBox for PackedSphere {
