@@ -243,6 +243,23 @@ impl Scene {
         (n, arrays::meets_front(n, ray.dir))
     }
 
+    /// `f` of the committed scene's watertight tracer and every point, spread over threads
+    /// without the GIL; a `ValueError` for a standard-tier scene.
+    fn on_solids<'py, T: Clone + Send + numpy::Element>(
+        &self,
+        py: Python<'py>,
+        points: &PyReadonlyArray2<'_, f32>,
+        threads: Option<usize>,
+        init: T,
+        f: impl Fn(&Tracer<'_, f32x8, Watertight, StableSphere>, Vec3) -> T + Sync,
+    ) -> PyResult<Bound<'py, PyArray1<T>>> {
+        self.committed()?;
+        let scene = vertex(&self.layout)?;
+        let tracer = Tracer::<f32x8, Watertight, StableSphere>::new(scene.as_ref());
+        let out = arrays::per_point(py, points, threads, init, |p| f(&tracer, p))?;
+        Ok(PyArray1::from_vec(py, out))
+    }
+
     /// A `RuntimeError` unless the scene is committed.
     fn committed(&self) -> PyResult<()> {
         let done = match &self.layout {
@@ -519,11 +536,7 @@ impl Scene {
         mask: u32,
         threads: Option<usize>,
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
-        self.committed()?;
-        let scene = vertex(&self.layout)?;
-        let tracer = Tracer::<f32x8, Watertight, StableSphere>::new(scene.as_ref());
-        let out = arrays::per_point(py, &points, threads, false, |p| tracer.contains(p, mask))?;
-        Ok(PyArray1::from_vec(py, out))
+        self.on_solids(py, &points, threads, false, |t, p| t.contains(p, mask))
     }
 
     /// The signed distance from each point to the instances under `mask`: to the nearest
@@ -537,13 +550,9 @@ impl Scene {
         mask: u32,
         threads: Option<usize>,
     ) -> PyResult<Bound<'py, PyArray1<f32>>> {
-        self.committed()?;
-        let scene = vertex(&self.layout)?;
-        let tracer = Tracer::<f32x8, Watertight, StableSphere>::new(scene.as_ref());
-        let out = arrays::per_point(py, &points, threads, f32::NAN, |p| {
-            tracer.signed_distance(p, mask)
-        })?;
-        Ok(PyArray1::from_vec(py, out))
+        self.on_solids(py, &points, threads, f32::NAN, |t, p| {
+            t.signed_distance(p, mask)
+        })
     }
 
     /// Every primitive of the instances under `mask` that meets the closed world box
