@@ -246,11 +246,11 @@ fn empty_output_buffers_are_answers_not_panics() {
     let s = scene.as_ref();
     let through = Ray::new(Vec3::new(-1.0, 0.2, 0.2), Vec3::X);
     let past = Ray::new(Vec3::new(-1.0, 5.0, 5.0), Vec3::X);
-    let none = |f: AllHits| (f.stored, f.complete);
+    let answer = |f: AllHits| (f.stored, f.complete);
     for (ray, meets) in [(through, true), (past, false)] {
         let want = (0, !meets);
         assert_eq!(
-            none(all_hits_ray::<f32x8, Watertight>(b, &ray, None, &mut [])),
+            answer(all_hits_ray::<f32x8, Watertight>(b, &ray, None, &mut [])),
             want
         );
         let mut found = [AllHits {
@@ -258,24 +258,24 @@ fn empty_output_buffers_are_answers_not_panics() {
             complete: false,
         }; 2];
         all_hits::<f32x8, Watertight>(b, &[ray, ray], &mut [], &mut found);
-        assert_eq!(found.map(none), [want; 2]);
+        assert_eq!(found.map(answer), [want; 2]);
         let f = s.all_hits_ray::<f32x8, Watertight, StableSphere>(&ray, !0, None, &mut []);
-        assert_eq!(none(f), want);
+        assert_eq!(answer(f), want);
         let mut found = [AllHits {
             stored: 9,
             complete: false,
         }; 2];
         s.all_hits::<f32x8, Watertight, StableSphere>(&[ray, ray], !0, &mut [], &mut found);
-        assert_eq!(found.map(none), [want; 2]);
+        assert_eq!(found.map(answer), [want; 2]);
     }
     for (p, radius, near) in [
         (Vec3::new(4.5, 0.2, 0.2), 1.0, true),
         (Vec3::splat(50.0), 1.0, false),
     ] {
-        assert_eq!(none(nearest_within(b, p, radius, &mut [])), (0, !near));
-        assert_eq!(none(s.nearest_within(p, radius, !0, &mut [])), (0, !near));
+        assert_eq!(answer(nearest_within(b, p, radius, &mut [])), (0, !near));
+        assert_eq!(answer(s.nearest_within(p, radius, !0, &mut [])), (0, !near));
         let (lo, hi) = (p - Vec3::splat(0.6), p + Vec3::splat(0.6));
-        assert_eq!(none(overlapping(b, lo, hi, None, &mut [])), (0, !near));
-        assert_eq!(none(s.overlapping(lo, hi, !0, None, &mut [])), (0, !near));
+        assert_eq!(answer(overlapping(b, lo, hi, None, &mut [])), (0, !near));
+        assert_eq!(answer(s.overlapping(lo, hi, !0, None, &mut [])), (0, !near));
     }
 }

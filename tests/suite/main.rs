@@ -50,8 +50,8 @@ mod winding;
 use octoray::hit::Candidate;
 
 /// The suite's one filter type. Each closure is a type of its own, and a walk called with it is
-/// compiled again (a scene walk is a second of LLVM time): the tests pass their filters through
-/// this, so the walks are compiled once per width and kernel.
+/// compiled again: the tests pass their filters through this, so the walks are compiled once per
+/// width and kernel.
 type DynFilter<'a> = &'a mut dyn FnMut(&Candidate) -> bool;
 
 /// `f` as the suite's one filter type.
