@@ -44,6 +44,12 @@
 #![no_std]
 #![forbid(unsafe_code)]
 
+// The walks (`tree::{single, packet, leaf}`, `scene::{instances, enter}`) carry
+// `#[cfg_attr(not(debug_assertions), inline(always))]`: forced into their callers in optimised
+// builds, left to the compiler where debug assertions are on (tests, dev builds), whose compile
+// time forced copies of these large bodies dominate (docs/build-flags.md). The per-node helpers
+// (slab test, epilog, masks) are small and always forced.
+
 pub mod scene;
 mod slices;
 pub mod tree;

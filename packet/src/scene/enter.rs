@@ -25,7 +25,7 @@ pub(super) enum Entered<'a, T, S> {
 /// and the instances' above) is `mask` and whose first instance path is `path`, when the masks
 /// admit it: the instance's (and a single geometry's, or a group's) before the tree is entered;
 /// in a tree of several geometries, each geometry's at its hits.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 #[allow(clippy::type_complexity)]
 pub(super) fn enter<'a, T: Primitive, S: Primitive>(
     scene: &SceneRef<'a, T, S>,

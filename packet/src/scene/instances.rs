@@ -57,7 +57,7 @@ impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS
     }
 
     /// Instance `inst` under this level's mask and path ([`enter`]).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     #[allow(clippy::type_complexity)]
     fn enter(&self, inst: u32) -> Option<(&'a Instance, Entered<'a, KT::Prim, KS::Prim>)> {
         enter(self.scene, self.mask, self.path, inst)
@@ -138,7 +138,7 @@ impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS
     }
 
     /// [`Instances::single_group`]'s body.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn single_level<F: HitFilter, const ANY: bool>(
         &self,
         ray: &Ray,
@@ -182,7 +182,7 @@ impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS
     /// The lanes `live` of a packet (in this level's space) through the part of instance `inst`
     /// that starts at `node` of its tree. Inlined into the level's leaves, the hot path;
     /// [`Instances::packet_instance_outlined`] for the unbounded instances.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn packet_instance<F: HitFilter, const ANY: bool>(
         &self,
         (inst, node): (u32, u32),
@@ -257,7 +257,7 @@ impl<'s, 'a, L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Instances<'s, 'a, L, KT, KS
     }
 
     /// [`Instances::packet_group`]'s body.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn packet_level<F: HitFilter, const ANY: bool>(
         &self,
         rays: &RayLanes<L>,
@@ -306,7 +306,7 @@ trait TreeWalk<L: Lanes> {
 
 /// `w` through `tree` from `node`: triangles with `KT`, spheres with `KS`, the member lookup
 /// only in a tree of several geometries.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn visit<L: Lanes, KT: Kernel<L>, KS: Kernel<L>, W: TreeWalk<L>>(
     tree: Geometries<'_, KT::Prim, KS::Prim>,
     place: (u32, u32, Members<'_>),
@@ -332,7 +332,7 @@ struct SingleWalk<'r, L: Lanes, F, const ANY: bool> {
 
 impl<L: Lanes, F: HitFilter, const ANY: bool> TreeWalk<L> for SingleWalk<'_, L, F, ANY> {
     type Out = bool;
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn walk<K: Kernel<L>, const MANY: bool>(
         self,
         bvh: Bvh8Ref<'_, K::Prim>,
@@ -361,7 +361,7 @@ struct PacketWalk<'r, L: Lanes, F, const ANY: bool> {
 
 impl<L: Lanes, F: HitFilter, const ANY: bool> TreeWalk<L> for PacketWalk<'_, L, F, ANY> {
     type Out = ();
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn walk<K: Kernel<L>, const MANY: bool>(
         self,
         bvh: Bvh8Ref<'_, K::Prim>,
@@ -387,7 +387,7 @@ type Unmoved<L, KT> = OnceCell<Option<Prepared<L, KT>>>;
 impl<L: Lanes, KT: Kernel<L>, KS: Kernel<L>> Leaf<L> for Instances<'_, '_, L, KT, KS> {
     type Pre = Unmoved<L, KT>;
 
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn prepare(&self, _: &RayLanes<L>) -> Self::Pre {
         OnceCell::new()
     }

@@ -105,7 +105,7 @@ impl<L: Lanes, K: Kernel<L>, const MANY: bool> Prims<'_, L, K, MANY> {
     /// Geometry and primitive of the tree's primitive `id` for a walk with filter `F`, or
     /// `None` where the geometry's mask keeps its hits out; `(UNPLACED, id)` when that is left
     /// until the walk is done (no filter, every member admitted).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn place<F: HitFilter>(&self, id: u32) -> Option<(u32, u32)> {
         let m = &self.members;
         if !MANY {
@@ -121,12 +121,12 @@ impl<L: Lanes, K: Kernel<L>, const MANY: bool> Prims<'_, L, K, MANY> {
 impl<L: Lanes, K: Kernel<L>, const MANY: bool> Leaf<L> for Prims<'_, L, K, MANY> {
     type Pre = K::Pre;
 
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn prepare(&self, rays: &RayLanes<L>) -> K::Pre {
         K::prepare(rays)
     }
 
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn single<F: HitFilter, const ANY: bool>(
         &self,
         pre: &K::Pre,
@@ -196,7 +196,7 @@ impl<L: Lanes, K: Kernel<L>, const MANY: bool> Leaf<L> for Prims<'_, L, K, MANY>
         false
     }
 
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn packet<F: HitFilter, const ANY: bool>(
         &self,
         pre: &K::Pre,

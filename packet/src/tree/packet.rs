@@ -27,7 +27,7 @@ struct Entry<N> {
 /// Bit `s` set where slot `s` of a node (its rows: lo x, y, z, hi x, y, z, child, count) is
 /// empty: `child == EMPTY` is a validated tree's only child reference with its sign bit set, so
 /// one movemask of the child row finds them all.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn empty_slots(rows: &[[f32; WIDTH]; 9]) -> u32 {
     f32x8::from(rows[6]).to_bitmask()
 }
@@ -36,7 +36,7 @@ fn empty_slots(rows: &[[f32; WIDTH]; 9]) -> u32 {
 /// 2, for packets of 16 and for packets of 8 without a frustum; never for a coherent packet of 8
 /// (with a frustum) or of 4, which run faster as a packet to the end than with each remaining
 /// lane's setup for the single-ray walk (`docs/scenes.md`).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn hybrid_threshold<L: Lanes>(coherent: bool) -> u32 {
     if L::LANES >= 16 || (L::LANES >= 8 && !coherent) {
         (L::LANES as u32 / 4).min(2)
@@ -47,7 +47,7 @@ fn hybrid_threshold<L: Lanes>(coherent: bool) -> u32 {
 
 /// The largest of the lanes of `x` set in `m` as f32 (NaN when one of them is NaN; −inf when
 /// `m` is empty).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn largest<L: Lanes>(x: L, m: L::Mask) -> f32 {
     if (m & !x.ge(x)).any() {
         return f32::NAN;
@@ -193,7 +193,7 @@ pub(crate) fn packet_walk<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
 /// entering lane (a representative ray), the nearest last so that it is popped first.
 /// Occlusion needs no order: children go on as they come. The order affects speed only, never
 /// the answer.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn push_sorted<L: Lanes, const ANY: bool>(
     node: &Bvh8Node,
     todo: u32,
@@ -238,7 +238,7 @@ fn push_sorted<L: Lanes, const ANY: bool>(
 
 /// A packet through geometry `bvh` (hits reported as geometry `geom` of instance `inst`) from
 /// the root, `best` carried in and out.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn run_packet<
     L: Lanes,
     K: Kernel<L>,

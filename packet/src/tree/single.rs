@@ -53,7 +53,7 @@ static LEFT_PACK: [[u32; WIDTH]; 256] = {
 ///
 /// Without `near_first` (occlusion, where any order finds a hit) the order is the slots from the
 /// last down: it finds an occluder in fewer steps than the octant order (`docs/notes/speed.md`).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn ordered(
     node: &Bvh8Node,
     hit: u32x8,
@@ -86,7 +86,7 @@ fn ordered(
 /// next and the others kept as one stack entry; a nearer hit drops the stacked children the
 /// ray enters beyond it. The order affects speed only, never the answer.
 #[allow(clippy::too_many_arguments)] // the walk's state, passed down once per ray
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn trace_single<L: Lanes, T: Leaf<L>, F: HitFilter, const ANY: bool>(
     nodes: &[Bvh8Node],
     leaf: &T,
@@ -218,7 +218,7 @@ pub(crate) struct Prepared<L: Lanes, K: Kernel<L>> {
 impl<L: Lanes, K: Kernel<L>> Prepared<L, K> {
     /// `ray` prepared; `None` when no kernel can hit anything with it (a non-finite or zero
     /// direction, a non-finite origin).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn new(ray: &Ray) -> Option<Self> {
         let br = BoxRay::new(&RayLanes::<f32x8>::broadcast(ray));
         if br.valid.none() {
@@ -236,7 +236,7 @@ impl<L: Lanes, K: Kernel<L>> Prepared<L, K> {
 /// The prepared ray `p` through geometry `bvh` (hits reported as geometry `geom` of instance
 /// `inst`) from node `node` (0: the root), `best` carried in and out ([`trace_single`]).
 #[allow(clippy::too_many_arguments)] // the walk's state
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn run_prepared<
     L: Lanes,
     K: Kernel<L>,
@@ -278,7 +278,7 @@ pub(crate) fn run_prepared<
 /// node `node` (0: the root), `best` carried in and out: prepares the ray ([`Prepared`]) for
 /// [`run_prepared`].
 #[allow(clippy::too_many_arguments)] // the walk's state
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn run_single<
     L: Lanes,
     K: Kernel<L>,
