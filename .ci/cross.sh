@@ -28,28 +28,31 @@ export OCTORAY_CASES="${OCTORAY_CASES:-0.25}"
 # package's unit tests from the package's folder: give it the absolute path.
 export CARGO_TARGET_WASM32_WASIP1_RUNNER="node --no-warnings --single-threaded $PWD/.ci/wasi-run.mjs"
 
-# slice TARGET NAME RUSTFLAGS: the slice for TARGET, built in its own target dir with only the
-# slice's modules of tests/suite, and the box test, a unit test of octoray-packet (the slab test
-# is internal), in one cargo run so the two builds share the cores (RUSTFLAGS applies to the
-# target's artifacts only, and replaces the config's flags for it). The filters select by name:
-# no suite test is under `tree::box_test::`, no box test under the slice's modules.
-slice() {
-  CARGO_TARGET_DIR=target/cross RUSTFLAGS="$3 --cfg octoray_isa_slice" \
-    cargo test --target "$1" -p octoray -p octoray-packet --test suite --lib -- \
-    "${SLICE[@]}" tree::box_test::
-  echo "ok: $2 slice passed (digest equal to x86-64's)"
-}
+# Each target's flags (the slice's cfg; simd128 on WebAssembly). Set per target, they leave the
+# build scripts and proc macros, built for this machine, as the other steps build them (a
+# RUSTFLAGS from the environment would replace them: unset).
+unset RUSTFLAGS CARGO_ENCODED_RUSTFLAGS
+export CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_RUSTFLAGS="--cfg octoray_isa_slice"
+export CARGO_TARGET_WASM32_WASIP1_RUSTFLAGS="-C target-feature=+simd128 --cfg octoray_isa_slice"
 
-echo "== aarch64 (NEON) under QEMU user mode"
+targets=()
 if have qemu-aarch64 && have aarch64-linux-gnu-gcc && rustup target add aarch64-unknown-linux-gnu >/dev/null 2>&1; then
-  slice aarch64-unknown-linux-gnu aarch64 ""
+  targets+=(aarch64-unknown-linux-gnu)
 else
   echo "skipped: aarch64 (qemu-user or the aarch64 linker could not be installed here)"
 fi
-
-echo "== wasm32-wasip1 (simd128) under Node's WASI"
 if have node && node -e "require('node:wasi')" >/dev/null 2>&1 && rustup target add wasm32-wasip1 >/dev/null 2>&1; then
-  slice wasm32-wasip1 wasm32-wasip1 "-C target-feature=+simd128"
+  targets+=(wasm32-wasip1)
 else
   echo "skipped: wasm32-wasip1 (no Node with node:wasi could be installed here)"
 fi
+[ ${#targets[@]} -gt 0 ] || exit 0
+
+# Both targets in one cargo run, so that their builds share the cores; cargo then runs each
+# target's tests through its runner: the slice's modules of tests/suite and the box test, a unit
+# test of octoray-packet (the slab test is internal). The filters select by name: no suite test
+# is under `tree::box_test::`, no box test under the slice's modules.
+echo "== test slices on: ${targets[*]}"
+CARGO_TARGET_DIR=target/cross cargo test "${targets[@]/#/--target=}" \
+  -p octoray -p octoray-packet --test suite --lib -- "${SLICE[@]}" tree::box_test::
+echo "ok: slices passed on ${targets[*]} (digest equal to x86-64's)"
