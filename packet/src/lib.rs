@@ -47,8 +47,9 @@
 // The walks (`tree::{single, packet, leaf}`, `scene::{instances, enter}`) carry
 // `#[cfg_attr(not(debug_assertions), inline(always))]`: forced into their callers in optimised
 // builds, left to the compiler where debug assertions are on (tests, dev builds), whose compile
-// time forced copies of these large bodies dominate (docs/build-flags.md). The per-node helpers
-// (slab test, epilog, masks) are small and always forced.
+// time forced copies of these large bodies dominate (docs/build-flags.md); the kernel bodies in
+// `octoray_core::kernels` follow the same rule. The per-node helpers (slab test, epilog, masks)
+// are small and always forced.
 
 pub mod scene;
 mod slices;

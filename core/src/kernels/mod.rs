@@ -20,6 +20,11 @@
 //! *coordinates* need more than f32 precision needs f64 primitives, which octoray does not have
 //! yet.
 
+// The kernel bodies carry `#[cfg_attr(not(debug_assertions), inline(always))]`: forced into the
+// walks in optimised builds, left to the compiler where debug assertions are on (tests, dev
+// builds), whose compile time forced copies of these bodies into every walk dominate
+// (docs/build-flags.md). The lane arithmetic they call (`crate::lanes`) is always forced.
+
 #[cfg(feature = "sphere")]
 pub mod sphere;
 #[cfg(feature = "triangle")]
@@ -67,12 +72,12 @@ pub trait Kernel<L: Lanes> {
     /// broadcast, a slice, a SoA block: [`Words`]). The same as [`Kernel::intersect_lanes`] on
     /// [`Primitive::from_words`], which is the default; a kernel may read the words another way
     /// (the watertight tiers read them in the ray's axis order).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn intersect_words<W: Words>(ray: &RayLanes<L>, pre: &Self::Pre, words: &W) -> LanesHit<L> {
         Self::intersect_lanes(ray, pre, &Self::Prim::from_words::<L, W>(words))
     }
     /// Tests every lane of `ray` against one primitive.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn intersect(ray: &RayLanes<L>, pre: &Self::Pre, prim: &Self::Prim) -> LanesHit<L> {
         Self::intersect_words(ray, pre, &One(prim))
     }
@@ -203,7 +208,7 @@ impl MeetsBox for PackedSphere {
 }
 
 /// The squared distance from `p` to the box `[lo, hi]`, per lane (0 inside).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn box_dist2<L: Lanes>(lo: V3<L>, hi: V3<L>, p: V3<L>) -> L {
     let axis = |lo: L, hi: L, x: L| (lo - x).max_or_rhs(x - hi).max_or_rhs(L::zero());
     let (dx, dy, dz) = (
@@ -217,7 +222,7 @@ fn box_dist2<L: Lanes>(lo: V3<L>, hi: V3<L>, p: V3<L>) -> L {
 /// `[lo, hi]` grown by 2⁻²² of its coordinates and the smallest normal f32: room for corners
 /// rounded once (half an ulp each).
 #[cfg(any(feature = "triangle", feature = "sphere"))]
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn widened<L: Lanes>(lo: V3<L>, hi: V3<L>) -> [V3<L>; 2] {
     let grow = |x: L, s: f32| {
         x + (x.abs() * L::splat(1.0 / 4_194_304.0) + L::splat(f32::MIN_POSITIVE)) * L::splat(s)
@@ -228,7 +233,7 @@ fn widened<L: Lanes>(lo: V3<L>, hi: V3<L>) -> [V3<L>; 2] {
 
 /// Per lane, the smaller and the larger of three points' coordinates.
 #[cfg(feature = "triangle")]
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn min_max3<L: Lanes>(a: V3<L>, b: V3<L>, c: V3<L>) -> [V3<L>; 2] {
     let min = |x: L, y: L, z: L| x.min_or_rhs(y).min_or_rhs(z);
     let max = |x: L, y: L, z: L| x.max_or_rhs(y).max_or_rhs(z);
@@ -241,7 +246,7 @@ fn min_max3<L: Lanes>(a: V3<L>, b: V3<L>, c: V3<L>) -> [V3<L>; 2] {
 /// The three corners of the triangle in `words`, in f64: a [`VertexTriangle`]'s vertices, or a
 /// [`PackedTriangle`]'s `v0`, `v0 + e1`, `v0 + e2` (as the kernels read them).
 #[cfg(feature = "triangle")]
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn corners<W: Words>(words: &W, packed: bool) -> [[f64; 3]; 3] {
     let w = |k: usize| [0, 1, 2].map(|i| f64::from(words.word::<f32>(k + i)));
     let (v0, a, b) = (w(0), w(3), w(6));
@@ -267,7 +272,7 @@ impl NearestPoint for VertexTriangle {
     /// stored unit normal `n` (rounded once from the exact one, each component within 2⁻²⁴)
     /// and `w = p − v₀` in f32, `|n·w|` is within `6·2⁻²⁴·|w|₁` of the exact plane distance,
     /// so `|n·w| − 2⁻²⁰·|w|₁` is below it.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn dist2_bound<L: Lanes, W: Words>(words: &W, p: V3<L>) -> L {
         let v0 = words.word3(0);
         let [lo, hi] = min_max3(v0, words.word3(3), words.word3(6));
@@ -289,7 +294,7 @@ impl NearestPoint for PackedTriangle {
         let c = corners(words, true).map(|x| map.apply(x));
         crate::kernels::triangle::closest_point::nearest_on_triangle(c, p)
     }
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn dist2_bound<L: Lanes, W: Words>(words: &W, p: V3<L>) -> L {
         let v0: V3<L> = words.word3(0);
         let [lo, hi] = min_max3(v0, v0 + words.word3(3), v0 + words.word3(6));
@@ -311,7 +316,7 @@ impl NearestPoint for PackedSphere {
         let r2 = words.word::<f32>(3);
         crate::kernels::sphere::closest_point::nearest_on_mapped_sphere(c, r2, map, p)
     }
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn dist2_bound<L: Lanes, W: Words>(words: &W, p: V3<L>) -> L {
         // A sphere that is never hit (NaN radius) has a NaN box and a bound of 0: its exact
         // answer, infinitely far, leaves it out.
@@ -389,9 +394,9 @@ macro_rules! kernel_without_prepare {
         impl<$($gen)*> Kernel<$lanes> for $ty {
             type Prim = $prim;
             type Pre = ();
-            #[inline(always)]
+            #[cfg_attr(not(debug_assertions), inline(always))]
             fn prepare(_: &RayLanes<$lanes>) {}
-            #[inline(always)]
+            #[cfg_attr(not(debug_assertions), inline(always))]
             fn intersect_lanes(
                 ray: &RayLanes<$lanes>,
                 _: &(),
@@ -409,11 +414,11 @@ kernel_without_prepare!(#[cfg(feature = "triangle")] [L: Lanes, const CULL: bool
 impl<L: Lanes> Kernel<L> for StableSphere {
     type Prim = PackedSphere;
     type Pre = crate::kernels::sphere::stable::SphereRay<L>;
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn prepare(ray: &RayLanes<L>) -> Self::Pre {
         crate::kernels::sphere::stable::SphereRay::new(ray)
     }
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn intersect_lanes(
         ray: &RayLanes<L>,
         pre: &Self::Pre,
@@ -433,11 +438,11 @@ macro_rules! sheared_kernel {
             type Prim = VertexTriangle;
             type Pre = crate::kernels::triangle::watertight::ShearedRay<L>;
             const EXACT_T_MAX: bool = $exact;
-            #[inline(always)]
+            #[cfg_attr(not(debug_assertions), inline(always))]
             fn prepare(ray: &RayLanes<L>) -> Self::Pre {
                 crate::kernels::triangle::watertight::ShearedRay::new(ray)
             }
-            #[inline(always)]
+            #[cfg_attr(not(debug_assertions), inline(always))]
             fn intersect_lanes(
                 ray: &RayLanes<L>,
                 pre: &Self::Pre,
@@ -447,7 +452,7 @@ macro_rules! sheared_kernel {
                     ray, pre, prim,
                 )
             }
-            #[inline(always)]
+            #[cfg_attr(not(debug_assertions), inline(always))]
             fn intersect_words<W: Words>(
                 ray: &RayLanes<L>,
                 pre: &Self::Pre,
@@ -470,11 +475,11 @@ impl<L: Lanes> Kernel<L> for ExactCrossing {
     type Prim = VertexTriangle;
     type Pre = <Exact as Kernel<L>>::Pre;
     const EXACT_T_MAX: bool = true;
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn prepare(ray: &RayLanes<L>) -> Self::Pre {
         <Exact as Kernel<L>>::prepare(ray)
     }
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn intersect_lanes(
         ray: &RayLanes<L>,
         pre: &Self::Pre,
@@ -483,7 +488,7 @@ impl<L: Lanes> Kernel<L> for ExactCrossing {
         let h = <Exact as Kernel<L>>::intersect_lanes(ray, pre, prim);
         crate::kernels::triangle::crossing::keep_crossings(ray, prim, h)
     }
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn intersect_words<W: Words>(ray: &RayLanes<L>, pre: &Self::Pre, words: &W) -> LanesHit<L> {
         let h = <Exact as Kernel<L>>::intersect_words(ray, pre, words);
         if !crate::lanes::LaneMask::any(h.mask) {

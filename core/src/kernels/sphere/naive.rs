@@ -20,13 +20,13 @@ use crate::prim::{PackedSphere, RayLanes};
 use crate::prim::{Primitive, SphereLanes};
 
 /// Tests every lane of `ray` against one sphere.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub fn intersect<L: Lanes>(ray: &RayLanes<L>, sphere: &PackedSphere) -> LanesHit<L> {
     intersect_lanes(ray, &sphere.splat())
 }
 
 /// Tests lane `i` of `ray` against lane `i` of `sphere`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub fn intersect_lanes<L: Lanes>(ray: &RayLanes<L>, sphere: &SphereLanes<L>) -> LanesHit<L> {
     let zero = L::zero();
     let d = ray.dir;

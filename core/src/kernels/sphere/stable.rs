@@ -53,7 +53,7 @@ pub struct SphereRay<L> {
 
 impl<L: Lanes> SphereRay<L> {
     /// Precomputes `ray`'s `a = d·d`, `√a` and `1/a`.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn new(ray: &RayLanes<L>) -> Self {
         let a = ray.dir.dot(ray.dir);
         let min = L::splat_scalar(L::Scalar::from_f64(L::Scalar::MIN_NORMAL));
@@ -68,13 +68,13 @@ impl<L: Lanes> SphereRay<L> {
 }
 
 /// Tests every lane of `ray` against one sphere.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub fn intersect<L: Lanes>(ray: &RayLanes<L>, sphere: &PackedSphere) -> LanesHit<L> {
     intersect_lanes(ray, &SphereRay::new(ray), &sphere.splat())
 }
 
 /// Tests lane `i` of `ray` (precomputed in `pre`) against lane `i` of `sphere`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub fn intersect_lanes<L: Lanes>(
     ray: &RayLanes<L>,
     pre: &SphereRay<L>,

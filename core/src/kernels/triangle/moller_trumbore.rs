@@ -51,14 +51,14 @@ use crate::prim::{PackedTriangle, RayLanes};
 const DET_NOISE: f32 = 8.0 / 16_777_216.0;
 
 /// Tests every lane of `ray` against one triangle, two-sided.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub fn intersect<L: Lanes>(ray: &RayLanes<L>, tri: &PackedTriangle) -> LanesHit<L> {
     intersect_lanes::<L, false>(ray, &tri.splat())
 }
 
 /// Tests lane `i` of `ray` against lane `i` of `tri`; with `CULL`, back faces (`det ≤ 0`: the
 /// normal `e1 × e2` points along the ray) are misses.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub fn intersect_lanes<L: Lanes, const CULL: bool>(
     ray: &RayLanes<L>,
     tri: &EdgeLanes<L>,
@@ -148,7 +148,7 @@ pub fn intersect_lanes<L: Lanes, const CULL: bool>(
     since = "0.1.0",
     note = "renamed `intersect_lanes`: it tests one triangle per lane"
 )]
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub fn intersect_with<L: Lanes, const CULL: bool>(
     ray: &RayLanes<L>,
     tri: &EdgeLanes<L>,

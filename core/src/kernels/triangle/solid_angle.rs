@@ -82,7 +82,7 @@ impl<L: Lanes> Default for AngleLanes<L> {
 }
 
 /// Lanes whose `arg(re + i·im)` lies in `(0, π]`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn upper<L: Lanes>(re: L, im: L) -> L::Mask {
     let zero = L::zero();
     im.gt(zero) | (!im.ne(zero) & re.lt(zero))
@@ -99,7 +99,7 @@ impl<L: Lanes> AngleLanes<L> {
     }
 
     /// Adds, in the lanes of `keep`, the solid angle triangle `(v0, v1, v2)` subtends at `p`.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn add_triangles(&mut self, v0: V3<L>, v1: V3<L>, v2: V3<L>, p: V3<L>, keep: L::Mask) {
         let (a, b, c) = (v0 - p, v1 - p, v2 - p);
         let y = a.dot(b.cross(c));
@@ -112,7 +112,7 @@ impl<L: Lanes> AngleLanes<L> {
     }
 
     /// Multiplies each lane's product by `x + iy` (not zero), counting whole turns.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn multiply(&mut self, x: L, y: L) {
         let zero = L::zero();
         let (re, im) = (self.re * x - self.im * y, self.re * y + self.im * x);

@@ -83,7 +83,7 @@ pub struct Axis<L: Lanes> {
 }
 
 impl<L: Lanes> Axis<L> {
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn pick(self, v: V3<L>) -> L {
         L::select(self.is_x, v.x, L::select(self.is_y, v.y, v.z))
     }
@@ -114,7 +114,7 @@ impl<L: Lanes> ShearedRay<L> {
     /// Chooses per lane `kz = argmax |d|` (ties to the lower axis), `kx`, `ky` the next two
     /// cyclically, swapped when `d[kz] < 0` to keep the winding; and the shear
     /// `Sx = d[kx]/d[kz]`, `Sy = d[ky]/d[kz]`, `Sz = 1/d[kz]` that maps the ray onto +z.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn new(ray: &RayLanes<L>) -> Self {
         let d = ray.dir;
         let (ax, ay, az) = (d.x.abs(), d.y.abs(), d.z.abs());
@@ -188,7 +188,7 @@ impl<L: Lanes> ShearedRay<L> {
 
     /// `v` in each lane's axis order; `v` itself when it was read in that order already
     /// (`PERMUTED`, [`Permuted`]).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn in_axis_order<const PERMUTED: bool>(&self, v: V3<L>) -> V3<L> {
         if PERMUTED {
             v
@@ -198,7 +198,7 @@ impl<L: Lanes> ShearedRay<L> {
     }
 
     /// `v` in each lane's axis order, `(v[kx], v[ky], v[kz])`, by per-lane blends.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn permute(&self, v: V3<L>) -> V3<L> {
         V3::new(self.kx.pick(v), self.ky.pick(v), self.kz.pick(v))
     }
@@ -206,13 +206,13 @@ impl<L: Lanes> ShearedRay<L> {
 
 /// Tests every lane of `ray` against one triangle (precomputing the shear each call; queries
 /// hoist it with [`ShearedRay::new`] and [`intersect_sheared`]).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub fn intersect<L: Lanes>(ray: &RayLanes<L>, tri: &VertexTriangle) -> LanesHit<L> {
     intersect_sheared(ray, &ShearedRay::new(ray), tri)
 }
 
 /// Tests every lane of `ray`, sheared by `sh`, against one triangle, two-sided.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub fn intersect_sheared<L: Lanes>(
     ray: &RayLanes<L>,
     sh: &ShearedRay<L>,
@@ -223,7 +223,7 @@ pub fn intersect_sheared<L: Lanes>(
 
 /// Tests lane `i` of `ray`, sheared by `sh`, against lane `i` of `tri`; with `CULL`, back faces
 /// (the normal `(v1 − v0) × (v2 − v0)` points along the ray) are misses.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub fn intersect_sheared_lanes<L: Lanes, const CULL: bool>(
     ray: &RayLanes<L>,
     sh: &ShearedRay<L>,
@@ -237,7 +237,7 @@ pub fn intersect_sheared_lanes<L: Lanes, const CULL: bool>(
     since = "0.1.0",
     note = "renamed `intersect_sheared_lanes`: it tests one triangle per lane"
 )]
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub fn intersect_sheared_with<L: Lanes, const CULL: bool>(
     ray: &RayLanes<L>,
     sh: &ShearedRay<L>,
@@ -246,24 +246,24 @@ pub fn intersect_sheared_with<L: Lanes, const CULL: bool>(
     intersect_sheared_lanes::<L, CULL>(ray, sh, tri)
 }
 
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn max3<L: Lanes>(a: L, b: L, c: L) -> L {
     a.max_or_rhs(b).max_or_rhs(c)
 }
 
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn min3<L: Lanes>(a: L, b: L, c: L) -> L {
     a.min_or_rhs(b).min_or_rhs(c)
 }
 
 /// Every lane set when `b`, none otherwise.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn all_if<L: Lanes>(b: bool) -> L::Mask {
     L::first_lanes(if b { L::LANES } else { 0 })
 }
 
 /// `k·u` (u the unit roundoff of the lanes' scalar).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn ulps<L: Lanes>(k: f64) -> L {
     L::splat_scalar(L::Scalar::from_f64(k * L::Scalar::UNIT_ROUNDOFF))
 }
@@ -291,7 +291,7 @@ fn ulps<L: Lanes>(k: f64) -> L {
 ///   Compared after multiplying through by `|D̂| − δD`, again without a division.
 /// - Each computed comparison `fl(x) > y` is strict with the error terms padded (constants
 ///   rounded up by 1 %, `5u` for the depths), so it implies the exact inequality.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn sheared_body<L: Lanes, const CULL: bool, const EXACT: bool>(
     ray: &RayLanes<L>,
     sh: &ShearedRay<L>,
@@ -302,7 +302,7 @@ pub(crate) fn sheared_body<L: Lanes, const CULL: bool, const EXACT: bool>(
 
 /// [`sheared_body`] on primitives read from `words`: in the shared axis order when every lane
 /// has the same one ([`Permuted`], no blends), per lane otherwise. The same bits either way.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn sheared_words<L: Lanes, const CULL: bool, const EXACT: bool, W: Words>(
     ray: &RayLanes<L>,
     sh: &ShearedRay<L>,
@@ -321,7 +321,7 @@ pub(crate) fn sheared_words<L: Lanes, const CULL: bool, const EXACT: bool, W: Wo
 }
 
 /// [`sheared_body`], also returning the lanes decided by exact arithmetic.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn sheared_body_traced<L: Lanes, const CULL: bool, const EXACT: bool>(
     ray: &RayLanes<L>,
     sh: &ShearedRay<L>,
@@ -351,7 +351,7 @@ struct Edges<L: Lanes> {
 }
 
 /// The body; `PERMUTED`: `tri`'s coordinates are already in the order `sh.shared_axes`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
     ray: &RayLanes<L>,
     sh: &ShearedRay<L>,
@@ -366,7 +366,7 @@ fn body<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
 
 /// The bound δe on the edge functions' error and the lanes where it holds (doc above), from
 /// the vertices relative to the origin and their largest unscaled depth.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn edge_bound<L: Lanes>(sh: &ShearedRay<L>, [a, b, c]: [V3<L>; 3], depth: L) -> (L, L::Mask) {
     let rx = max3(a.x.abs(), b.x.abs(), c.x.abs()) + sh.sx.abs() * depth;
     let ry = max3(a.y.abs(), b.y.abs(), c.y.abs()) + sh.sy.abs() * depth;
@@ -378,7 +378,7 @@ fn edge_bound<L: Lanes>(sh: &ShearedRay<L>, [a, b, c]: [V3<L>; 3], depth: L) -> 
 
 /// The edge test: which lanes' rays pass inside the triangle (the watertight tier: as computed,
 /// exact at zero; the exact tier: certified, its undecided lanes in `exact_lanes`).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn edge_test<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
     ray: &RayLanes<L>,
     sh: &ShearedRay<L>,
@@ -457,7 +457,7 @@ fn edge_test<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool
 
 /// The rest of the body on the lanes the edge test leaves: the range of `t`, decided by the
 /// certificates (and the exact stage where they cannot), the reported `t` and its box clamp.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn range<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
     ray: &RayLanes<L>,
     sh: &ShearedRay<L>,
@@ -743,7 +743,7 @@ fn range<L: Lanes, const CULL: bool, const EXACT: bool, const PERMUTED: bool>(
 /// The plane distance `((v0 − o)·n)/(d·n)` in f64 on the lanes of `mask` (the origin, the
 /// vertices and `d` in one axis order), rounded to the lanes' scalar; `fallback` where it is
 /// not finite and on the other lanes.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn plane_t<L: Lanes>(
     mask: L::Mask,
     origin: V3<L>,
@@ -797,7 +797,7 @@ fn plane_t<L: Lanes>(
 }
 
 /// `((p0 − o)·n)/(d·n)` with `n = (p1 − p0) × (p2 − p0)`, in f64.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn plane_distance(p0: [f64; 3], p1: [f64; 3], p2: [f64; 3], d: [f64; 3], o: [f64; 3]) -> f64 {
     let n = cross3(sub3(p1, p0), sub3(p2, p0));
     dot3(sub3(p0, o), n) / dot3(d, n)
