@@ -257,17 +257,26 @@ fn corners<W: Words>(words: &W, packed: bool) -> [[f64; 3]; 3] {
     [v0, add(a), add(b)]
 }
 
+/// [`NearestPoint`]'s f64 tests for a triangle layout, inside its impl: its corners (`packed`:
+/// stored as `v0`, `e1`, `e2`), mapped by `map` when the triangle is placed.
+#[cfg(feature = "triangle")]
+macro_rules! triangle_nearest_point {
+    ($packed:expr) => {
+        #[inline]
+        fn nearest_point<W: Words>(words: &W, p: [f64; 3]) -> Nearest {
+            crate::kernels::triangle::closest_point::nearest_on_triangle(corners(words, $packed), p)
+        }
+        #[inline]
+        fn nearest_point_mapped<W: Words>(words: &W, map: &Affine64, p: [f64; 3]) -> Nearest {
+            let c = corners(words, $packed).map(|x| map.apply(x));
+            crate::kernels::triangle::closest_point::nearest_on_triangle(c, p)
+        }
+    };
+}
+
 #[cfg(feature = "triangle")]
 impl NearestPoint for VertexTriangle {
-    #[inline]
-    fn nearest_point<W: Words>(words: &W, p: [f64; 3]) -> Nearest {
-        crate::kernels::triangle::closest_point::nearest_on_triangle(corners(words, false), p)
-    }
-    #[inline]
-    fn nearest_point_mapped<W: Words>(words: &W, map: &Affine64, p: [f64; 3]) -> Nearest {
-        let c = corners(words, false).map(|x| map.apply(x));
-        crate::kernels::triangle::closest_point::nearest_on_triangle(c, p)
-    }
+    triangle_nearest_point!(false);
     /// The larger of the box's bound and the distance to the triangle's plane: with the
     /// stored unit normal `n` (rounded once from the exact one, each component within 2⁻²⁴)
     /// and `w = p − v₀` in f32, `|n·w|` is within `6·2⁻²⁴·|w|₁` of the exact plane distance,
@@ -285,15 +294,7 @@ impl NearestPoint for VertexTriangle {
 
 #[cfg(feature = "triangle")]
 impl NearestPoint for PackedTriangle {
-    #[inline]
-    fn nearest_point<W: Words>(words: &W, p: [f64; 3]) -> Nearest {
-        crate::kernels::triangle::closest_point::nearest_on_triangle(corners(words, true), p)
-    }
-    #[inline]
-    fn nearest_point_mapped<W: Words>(words: &W, map: &Affine64, p: [f64; 3]) -> Nearest {
-        let c = corners(words, true).map(|x| map.apply(x));
-        crate::kernels::triangle::closest_point::nearest_on_triangle(c, p)
-    }
+    triangle_nearest_point!(true);
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn dist2_bound<L: Lanes, W: Words>(words: &W, p: V3<L>) -> L {
         let v0: V3<L> = words.word3(0);
