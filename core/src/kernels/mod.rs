@@ -20,10 +20,11 @@
 //! *coordinates* need more than f32 precision needs f64 primitives, which octoray does not have
 //! yet.
 
-// The kernel bodies carry `#[cfg_attr(not(debug_assertions), inline(always))]`: forced into the
-// walks in optimised builds, left to the compiler where debug assertions are on (tests, dev
-// builds), whose compile time forced copies of these bodies into every walk dominate
-// (docs/build-flags.md). The lane arithmetic they call (`crate::lanes`) is always forced.
+// The kernel bodies and their helpers here carry
+// `#[cfg_attr(not(debug_assertions), inline(always))]`: forced into the walks in optimised builds,
+// left to the compiler where debug assertions are on (tests, dev builds), whose compile time
+// forced copies of these bodies into every walk dominate (docs/build-flags.md). The lane
+// arithmetic they call (`crate::lanes`) is always forced.
 
 #[cfg(feature = "sphere")]
 pub mod sphere;
